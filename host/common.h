@@ -1,0 +1,75 @@
+/* common.h: error reporting, allocation, file and atomic-output helpers used by every host file.
+ *
+ * Errors travel as return codes (0 ok, -1 failure) with a message in an sl_err, up to one place
+ * (main) that prints them. A message is one line that names the file and the problem, e.g.
+ * "scene.json: camera.fov_deg: expected a number". */
+#ifndef SL_COMMON_H
+#define SL_COMMON_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#define SL_VERSION "0.1.0"
+
+typedef struct sl_err {
+    char msg[1024];
+} sl_err;
+
+/* Formats the message into e (if non-NULL) and returns -1, so callers can `return sl_fail(...)`. */
+int sl_fail(sl_err *e, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* Prints a one-line warning to stderr ("strandlight: warning: ..."). */
+void sl_warn(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* Prints a one-line note to stderr ("strandlight: ..."), e.g. which device was picked. */
+void sl_note(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* Allocation that aborts with a message on out-of-memory (used for sizes already validated). */
+void *sl_malloc(size_t n);
+void *sl_calloc(size_t count, size_t size);
+void *sl_realloc(void *p, size_t n);
+char *sl_strdup(const char *s);
+
+/* Reads a whole regular file. Errors name the path: missing, unreadable, a directory, too big. */
+int sl_read_file(const char *path, unsigned char **data, size_t *size, size_t max_size, sl_err *e);
+
+/* Atomic output: write into a temporary file beside `path`, then rename over it on success, or
+ * remove it on failure, so no half-written output is ever left behind. */
+typedef struct sl_atomic_file {
+    char path[4096];
+    char tmp_path[4096];
+    FILE *fp; /* open on the temporary file */
+} sl_atomic_file;
+int sl_atomic_open(sl_atomic_file *af, const char *path, sl_err *e);
+int sl_atomic_commit(sl_atomic_file *af, sl_err *e); /* closes and renames */
+void sl_atomic_abort(sl_atomic_file *af);            /* closes and removes */
+/* For writers that open files themselves (OpenEXRCore): a unique temporary name beside path. */
+void sl_temp_name(const char *path, char *tmp, size_t tmp_size);
+/* Creates the parent directories of a file path (like mkdir -p on dirname). */
+int sl_make_parent_dirs(const char *path, sl_err *e);
+
+/* Path helpers. Returns the directory part of path ("." if none) into out. */
+void sl_dirname(const char *path, char *out, size_t out_size);
+/* Joins base_dir and rel unless rel is absolute. */
+void sl_path_join(const char *base_dir, const char *rel, char *out, size_t out_size);
+/* Lower-case file extension without the dot ("" if none), pointer into path. */
+const char *sl_path_ext(const char *path);
+int sl_ext_is(const char *path, const char *ext); /* case-insensitive */
+
+/* Monotonic wall clock in seconds. */
+double sl_now(void);
+
+/* 64-bit FNV-1a, for cache keys. */
+uint64_t sl_hash64(const void *data, size_t n, uint64_t seed);
+
+/* Progress bar on stderr when it is a terminal; silent otherwise. */
+typedef struct sl_progress {
+    const char *label;
+    double start, last;
+    int active;
+} sl_progress;
+void sl_progress_begin(sl_progress *p, const char *label);
+void sl_progress_update(sl_progress *p, double fraction);
+void sl_progress_end(sl_progress *p);
+
+#endif

@@ -1,0 +1,49 @@
+# lib.sh: helpers for CLI tests (sourced). Each check prints PASS/FAIL/SKIP lines for test/run.sh.
+# SL is the binary under test; SHARED the shared data dir (may be absent); TMP a scratch dir.
+: "${SL:=build/strandlight}"
+: "${SHARED:=../shared/data}"
+: "${TMP:=build/test-tmp/cli}"
+mkdir -p "$TMP"
+
+pass() { echo "PASS $1"; }
+fail() { echo "FAIL $1: $2"; }
+skip() { echo "SKIP $1: $2"; }
+have_shared() { [ -d "$SHARED" ]; }
+
+# expect_error NAME EXPECTED_SUBSTRING CMD...: CMD must exit 1 with one stderr line containing
+# the substring, must not crash (no signal exit) and must print nothing else to stderr.
+expect_error() {
+    local name=$1 want=$2; shift 2
+    local out rc lines
+    out=$("$@" 2>&1 >/dev/null); rc=$?
+    lines=$(printf '%s' "$out" | grep -c '' || true)
+    if [ "$rc" -ne 1 ]; then fail "$name" "exit $rc (want 1): $out"; return; fi
+    if ! printf '%s' "$out" | grep -qF -- "$want"; then fail "$name" "stderr '$out' lacks '$want'"; return; fi
+    if [ "$lines" -ne 1 ]; then fail "$name" "want a one-line error, got $lines lines: $out"; return; fi
+    pass "$name"
+}
+
+# expect_ok NAME CMD...: CMD must exit 0.
+expect_ok() {
+    local name=$1; shift
+    local out rc
+    out=$("$@" 2>&1); rc=$?
+    if [ "$rc" -ne 0 ]; then fail "$name" "exit $rc: $(printf '%s' "$out" | tail -3)"; return; fi
+    pass "$name"
+}
+
+# expect_output NAME EXPECTED_SUBSTRING CMD...: CMD exits 0 and stdout contains the substring.
+expect_output() {
+    local name=$1 want=$2; shift 2
+    local out rc
+    out=$("$@" 2>/dev/null); rc=$?
+    if [ "$rc" -ne 0 ]; then fail "$name" "exit $rc"; return; fi
+    if ! printf '%s' "$out" | grep -qF -- "$want"; then fail "$name" "stdout lacks '$want'"; return; fi
+    pass "$name"
+}
+
+# no_leftovers NAME DIR: DIR holds no temporary output files.
+no_leftovers() {
+    local name=$1 dir=$2
+    if ls "$dir" 2>/dev/null | grep -q '\.tmp'; then fail "$name" "temporary files left in $dir"; else pass "$name"; fi
+}
