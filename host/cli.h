@@ -9,6 +9,8 @@ int cmd_info(int argc, char **argv);
 int cmd_eval(int argc, char **argv);
 int cmd_devices(int argc, char **argv);
 int cmd_kernels(int argc, char **argv);
+int cmd_fit(int argc, char **argv);
+int cmd_sample(int argc, char **argv);
 
 /* True when argv[*i] is `name` (then *value = argv[*i+1], *i advanced) or `name=value`.
  * A missing value prints a usage error and sets *missing. */

@@ -17,6 +17,8 @@ static const command commands[] = {
     {"eval", cmd_eval, "evaluate fiber scattering quantities from CSV (numerics contract)"},
     {"devices", cmd_devices, "list OpenCL platforms and devices"},
     {"kernels", cmd_kernels, "run each OpenCL kernel against its C twin"},
+    {"fit", cmd_fit, "fit SRBF lobes to an environment map"},
+    {"sample", cmd_sample, "directional lights sampled from an environment map"},
 };
 #define NUM_COMMANDS (sizeof commands / sizeof commands[0])
 
