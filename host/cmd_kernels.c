@@ -1,11 +1,123 @@
-/* cmd_kernels.c: `strandlight kernels` (placeholder until its issue lands). */
+/* cmd_kernels.c: `strandlight kernels`: runs every registered OpenCL kernel against its C twin
+ * (host/kernel_checks.c) on the chosen device and prints differences, tolerances and times. */
 #include "cli.h"
+#include "clrt.h"
+#include "kernel_checks.h"
 
+#include <math.h>
 #include <stdio.h>
+#include <string.h>
+
+static void usage(FILE *fp) {
+    size_t n;
+    const sl_kernel_check *c = sl_kernel_checks(&n);
+    fprintf(fp,
+            "usage: strandlight kernels [--device D] [--only NAME] [--size N] [--reps R] "
+            "[--list]\n\n"
+            "Runs each OpenCL kernel and its C twin on the same input and compares them:\n"
+            "max abs/rel difference, tolerance, PASS/FAIL, best C and OpenCL times (ms).\n"
+            "Exit status 1 if any check fails.\n\n"
+            "  --device D   auto (default), gpu, pocl, opencl, P:D or N (see 'strandlight "
+            "devices');\n"
+            "               with c there is nothing to compare and every check is skipped\n"
+            "  --only NAME  run one check\n"
+            "  --size N     problem size (per check; prefix_sum: an N x N image)\n"
+            "  --reps R     timed repetitions, best reported (default 3)\n"
+            "  --list       list the checks and exit\n\nchecks:\n");
+    for (size_t i = 0; i < n; i++) fprintf(fp, "  %-14s %s\n", c[i].name, c[i].what);
+}
+
+static void fmt_num(char *out, size_t n, double v) {
+    if (v == 0)
+        snprintf(out, n, "0");
+    else
+        snprintf(out, n, "%.3g", v);
+}
 
 int cmd_kernels(int argc, char **argv) {
-    (void)argc;
-    (void)argv;
-    fprintf(stderr, "strandlight kernels: not implemented yet\n");
-    return 2;
+    const char *device = "auto", *only = NULL, *v;
+    long size = 0, reps = 3;
+    int list = 0;
+    for (int i = 1; i < argc; i++) {
+        int missing = 0;
+        if (cli_is_help(argv[i])) {
+            usage(stdout);
+            return 0;
+        } else if (cli_opt(argc, argv, &i, "--device", &v, &missing)) {
+            if (missing) return 2;
+            device = v;
+        } else if (cli_opt(argc, argv, &i, "--only", &v, &missing)) {
+            if (missing) return 2;
+            only = v;
+        } else if (cli_opt(argc, argv, &i, "--size", &v, &missing)) {
+            if (missing || cli_int("kernels", "--size", v, 1, 16384, &size)) return 2;
+        } else if (cli_opt(argc, argv, &i, "--reps", &v, &missing)) {
+            if (missing || cli_int("kernels", "--reps", v, 1, 1000, &reps)) return 2;
+        } else if (strcmp(argv[i], "--list") == 0) {
+            list = 1;
+        } else {
+            return cli_usage_error("kernels", "unexpected argument '%s'", argv[i]);
+        }
+    }
+    size_t n;
+    const sl_kernel_check *checks = sl_kernel_checks(&n);
+    if (list) {
+        for (size_t i = 0; i < n; i++) printf("%-14s %s\n", checks[i].name, checks[i].what);
+        return 0;
+    }
+    if (only && !sl_kernel_check_find(only))
+        return cli_usage_error("kernels", "--only: no check named '%s' (try --list)", only);
+
+    sl_err e = {{0}};
+    sl_device dev;
+    if (sl_device_open(device, &dev, &e)) {
+        fprintf(stderr, "strandlight: %s\n", e.msg);
+        return 1;
+    }
+    printf("device: %s\n", dev.name);
+    if (!dev.is_opencl) {
+        for (size_t i = 0; i < n; i++)
+            if (!only || strcmp(only, checks[i].name) == 0)
+                printf("%-18s SKIP (no OpenCL device: the C path has nothing to compare "
+                       "against)\n",
+                       checks[i].name);
+        sl_device_close(&dev);
+        return 0;
+    }
+    printf("%-18s %-16s %-9s %-9s %-16s %-6s %9s %9s %9s\n", "kernel", "problem", "max_abs",
+           "max_rel", "tolerance", "result", "C_ms", "CL_ms", "CL_wall");
+    int passed = 0, failed = 0;
+    sl_kernel_check_opts o = {size, (int)reps};
+    for (size_t i = 0; i < n; i++) {
+        if (only && strcmp(only, checks[i].name) != 0) continue;
+        sl_kernel_check_result r;
+        memset(&r, 0, sizeof r);
+        if (checks[i].run(dev.cl, &o, &r, &e)) {
+            printf("%-18s FAIL: %s\n", checks[i].name, e.msg);
+            failed++;
+            continue;
+        }
+        char ma[32], mr[32], tol[64];
+        fmt_num(ma, sizeof ma, r.max_abs);
+        fmt_num(mr, sizeof mr, r.max_rel);
+        if (r.tol_abs == 0 && r.tol_rel == 0)
+            snprintf(tol, sizeof tol, "exact");
+        else
+            snprintf(tol, sizeof tol, "abs %.2g|rel %.2g", r.tol_abs, r.tol_rel);
+        printf("%-18s %-16s %-9s %-9s %-16s %-6s %9.3f %9.3f%s %8.3f\n", checks[i].name,
+               r.problem, ma, mr, tol, r.pass ? "PASS" : "FAIL", 1e3 * r.c_s, 1e3 * r.cl_s,
+               r.cl_s_is_device ? "" : "w", 1e3 * r.cl_wall_s);
+        if (!r.pass)
+            printf("  %zu of %zu outputs outside the tolerance (%s)\n", r.bad, r.compared,
+                   r.note);
+        r.pass ? passed++ : failed++;
+    }
+    int from_source, from_cache;
+    double build_s;
+    sl_cl_build_stats(dev.cl, &from_source, &from_cache, &build_s);
+    printf("%d passed, %d failed; programs: %d built from source, %d from the disk cache "
+           "(%.3f s)\n",
+           passed, failed, from_source, from_cache, build_s);
+    sl_device_close(&dev);
+    return failed ? 1 : 0;
 }

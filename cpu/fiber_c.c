@@ -1,0 +1,39 @@
+/* fiber_c.c: the C twin's batch drivers (see fiber_c.h). Each row calls the float entry point of
+ * kernels/fiber_marschner.h, kernels/fiber_deon.h or kernels/fiber_furnace.h, exactly as the
+ * OpenCL kernels in kernels/scatter_eval.cl do. The per-row work is branchy (root solves,
+ * adaptive windows), so SSE lanes across rows do not pay here: it is plain scalar float. */
+#include "fiber_c.h"
+
+#include "fiber_deon.h"
+#include "fiber_furnace.h"
+#include "fiber_marschner.h"
+
+size_t slc_scatter_width(const sl_fiber_params *fp) {
+    return fp->model == 1 ? (size_t)fp->orders + 3 : 4;
+}
+
+void slc_scatter_batch(const sl_fiber_params *fp, size_t n, const float *in, float *out) {
+    size_t w = slc_scatter_width(fp);
+    for (size_t i = 0; i < n; i++) {
+        const float *r = in + 4 * i;
+        float *o = out + w * i;
+        if (fp->model == 1)
+            sl_deon_scatter(fp, r[0], r[1], r[2], r[3], o);
+        else
+            sl_marschner_scatter(fp, r[0], r[1], r[2], r[3], o);
+    }
+}
+
+void slc_deon_mp_batch(size_t n, const float *in, float *out) {
+    for (size_t i = 0; i < n; i++) {
+        float lm = sl_deon_log_mp(in[3 * i], in[3 * i + 1], in[3 * i + 2]);
+        out[2 * i] = exp(lm); /* may underflow to 0; log_M stays finite */
+        out[2 * i + 1] = lm;
+    }
+}
+
+void slc_furnace_batch(const sl_fiber_params *fp, size_t n, const float *in, float *out) {
+    for (size_t i = 0; i < n; i++) {
+        out[i] = sl_furnace(fp, in[2 * i], in[2 * i + 1]);
+    }
+}

@@ -1,0 +1,21 @@
+/* fiber_c.h: batch drivers of the C twin (float) for the fiber quantities of numerics.md sec. 5:
+ * they run the same kernels/ headers as the OpenCL kernels (kernels/scatter_eval.cl), row by
+ * row, so C and OpenCL agree to float rounding. Rows are packed floats. */
+#ifndef SL_FIBER_C_H
+#define SL_FIBER_C_H
+
+#include <stddef.h>
+
+#include "fiber_params.h"
+
+/* in: 4 floats per row (theta_i, phi_i, theta_o, phi_o); out: 4 per row (marschner: f_R, f_TT,
+ * f_TRT, f) or orders + 3 per row (deon: f_0..f_orders, f_rest, f). */
+void slc_scatter_batch(const sl_fiber_params *fp, size_t n, const float *in, float *out);
+/* Number of output floats per row of slc_scatter_batch for this material. */
+size_t slc_scatter_width(const sl_fiber_params *fp);
+/* in: v, theta_i, theta_o per row; out: M, log_M (d'Eon 2011 Eq. 7, no shift). */
+void slc_deon_mp_batch(size_t n, const float *in, float *out);
+/* in: theta_o, phi_o per row; out: albedo = integral of f over the sphere (either model). */
+void slc_furnace_batch(const sl_fiber_params *fp, size_t n, const float *in, float *out);
+
+#endif

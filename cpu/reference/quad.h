@@ -1,0 +1,30 @@
+/* quad.h: adaptive Gauss-Kronrod (G7/K15) quadrature in double with error control, for the
+ * reference backend (Marschner TRT convolution, d'Eon N_p, furnace integrals, SRBF exact
+ * integrals). Pure functions, no global state, no allocation (fixed-size interval stack). */
+#ifndef SL_QUAD_H
+#define SL_QUAD_H
+
+#include <stddef.h>
+
+typedef double (*slq_fn)(double x, void *ctx);
+
+/* Integrates f over [a, b] (a > b gives the negative) by globally adaptive G7/K15: the interval
+ * with the largest error estimate is bisected until the summed estimate is <= max(abs_tol,
+ * rel_tol * |I|), or until max_depth bisection levels (<= 50) / 4000 intervals are reached.
+ * *err_est (may be NULL) receives the final estimated absolute error. Non-finite integrand
+ * values are treated as 0 and never propagate. */
+double slq_integrate(slq_fn f, void *ctx, double a, double b, double rel_tol, double abs_tol,
+                     int max_depth, double *err_est);
+
+/* The same over [a, b] split at the given breakpoints (any order, duplicates and points outside
+ * (a, b) ignored; at most 64 used): pieces share one global error budget, so a narrow feature
+ * between breakpoints is resolved without over-refining smooth pieces. Bracket a narrow
+ * feature (a spike of width s at x0: breakpoints near x0 - s and x0 + s): a breakpoint at its
+ * centre alone can miss it, since no rule samples an interval's endpoints. */
+double slq_integrate_pts(slq_fn f, void *ctx, double a, double b, const double *pts, size_t npts,
+                         double rel_tol, double abs_tol, int max_depth, double *err_est);
+
+/* One fixed 15-point Gauss-Kronrod rule on [a, b] (no adaptivity); *err_est = |K15 - G7|. */
+double slq_gk15(slq_fn f, void *ctx, double a, double b, double *err_est);
+
+#endif

@@ -1,0 +1,207 @@
+/* envfit.c: the fitting driver (see envfit.h): pyramid, greedy start, coarse-to-fine LM,
+ * auto lobe count, final errors. */
+#include "envfit_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void sl_envfit_default_settings(sl_envfit_settings *s) {
+    memset(s, 0, sizeof *s);
+    s->lobes = 40;
+    s->target_error = 0.1;
+    s->max_lobes = 256;
+    s->lambda_min = 0;
+    s->lambda_max = 1.0;
+    s->effort = 1;
+    s->threads = 2;
+    s->conv_lambda = 10.0 * M_PI / 180.0;
+    s->progress = 0;
+}
+
+/* LM iterations on the level `t` steps below the coarsest: most of the work happens where it is
+ * cheap; the fine levels only polish (mainly the narrow lobes, whose bound relaxes there). */
+#define EFL_FREEZE 16.0
+
+static int level_budget(int t) {
+    static const int b[] = {60, 40, 25, 15, 10, 8};
+    return t < 6 ? b[t] : 6;
+}
+
+typedef struct fit_state {
+    efl_level *L;
+    int nlev;
+    const sl_envfit_settings *s;
+    double lam_min, lam_max;
+    double *res; /* residual buffer, level 0 size */
+    sl_progress prog;
+    double work_total, work_done;
+    int iters;
+} fit_state;
+
+static double level_work(const fit_state *st, int lv) {
+    return (double)st->L[lv].w * st->L[lv].h * level_budget(st->nlev - 1 - lv);
+}
+
+static int is_dead(const sl_lobe *l) { return l->rgb[0] <= 0 && l->rgb[1] <= 0 && l->rgb[2] <= 0; }
+
+/* Moves lobes that lost all weight to where the residual is largest (coarse levels only). */
+static int reseed_dead(const efl_dict *d, sl_lobe *lobes, int n) {
+    int k = 0;
+    for (int j = 0; j < n; j++)
+        if (!is_dead(&lobes[j])) lobes[k++] = lobes[j];
+    if (k == n || k == 0) return 0;
+    efl_greedy(d, lobes, k, n);
+    return 1;
+}
+
+static void fit_levels(fit_state *st, const efl_dict *d, sl_lobe *lobes, int n) {
+    const sl_envfit_settings *s = st->s;
+    int top = st->nlev - 1;
+    for (int lv = top; lv >= 0; lv--) {
+        const efl_level *L = &st->L[lv];
+        efl_lm_opts o;
+        o.lam_lo = st->lam_min;
+        o.lam_hi = st->lam_max;
+        o.max_iter = (int)ceil(level_budget(top - lv) * s->effort);
+        o.rel_tol = 1e-5 / s->effort;
+        efl_eval ev = {L, s->threads, EFL_CUT, st->res, NULL};
+        double w = level_work(st, lv) / st->work_total;
+        double p0 = st->work_done, p1 = p0 + w;
+        int it = 0;
+        double tl = sl_now();
+        /* Lobes broader than EFL_FREEZE pixels were resolved on the coarser levels: on this
+         * level they only contribute a fixed background, which saves most of the fine-level
+         * work (effort scales the threshold, so long runs refine everything). */
+        double freeze = EFL_FREEZE * s->effort * M_PI / L->h;
+        int na = 0;
+        for (int j = 0; j < n; j++)
+            if (lobes[j].lambda < freeze) na++;
+        double *bg = NULL;
+        sl_lobe *act = lobes, *fro = NULL;
+        if (na < n) {
+            act = sl_malloc(sizeof *act * (size_t)(na ? na : 1));
+            fro = sl_malloc(sizeof *fro * (size_t)(n - na));
+            int ia = 0, ib = 0;
+            for (int j = 0; j < n; j++) {
+                if (lobes[j].lambda < freeze)
+                    act[ia++] = lobes[j];
+                else
+                    fro[ib++] = lobes[j];
+            }
+            size_t np = (size_t)L->w * L->h * 3;
+            bg = sl_malloc(sizeof(double) * np);
+            efl_objective(&ev, fro, n - na);
+            for (size_t i = 0; i < np; i++) bg[i] = st->res[i] + L->rgb[i];
+            ev.bg = bg;
+        }
+        double F = na ? efl_lm(&ev, act, na, &o, &it, s->progress ? &st->prog : NULL, p0, p1)
+                      : efl_objective(&ev, act, 0);
+        st->iters += it;
+        if (act != lobes) {
+            int ia = 0, ib = 0;
+            for (int j = 0; j < n; j++) lobes[j] = lobes[j].lambda < freeze ? act[ia++] : fro[ib++];
+            free(act);
+            free(fro);
+            free(bg);
+            ev.bg = NULL;
+        }
+        if (s->verbose)
+            fprintf(stderr, "fit: level %d (%dx%d): %d of %d lobes free, %d iterations, rel_l2 %.5g, %.3f s\n",
+                    lv, L->w, L->h, na, n, it, L->energy > 0 ? sqrt(2 * F / L->energy) : 0.0,
+                    sl_now() - tl);
+        /* Dead lobes are worth moving while the level is cheap; effort buys more rounds. */
+        if (lv >= top - 1) {
+            int rounds = (int)ceil(s->effort);
+            for (int r = 0; r < rounds && reseed_dead(d, lobes, n); r++) {
+                efl_lm(&ev, lobes, n, &o, &it, NULL, 0, 0);
+                st->iters += it;
+            }
+        }
+        st->work_done = p1;
+        if (s->progress) sl_progress_update(&st->prog, p1);
+    }
+}
+
+static double lobe_power(const sl_lobe *l) {
+    return (l->rgb[0] + l->rgb[1] + l->rgb[2]) * sl_lobe_integral(l->lambda);
+}
+
+static int cmp_power(const void *a, const void *b) {
+    double pa = lobe_power(a), pb = lobe_power(b);
+    return pa > pb ? -1 : pa < pb ? 1 : 0;
+}
+
+int sl_envfit(const sl_envmap *map, const sl_envfit_settings *s, sl_lobes *out,
+              sl_envfit_report *rep, sl_err *e) {
+    memset(out, 0, sizeof *out);
+    memset(rep, 0, sizeof *rep);
+    out->rel_l2 = out->lobe_conv_rel_l2 = -1;
+    if (!map || map->width < 2 || map->height < 1 || !map->rgb)
+        return sl_fail(e, "fit: the environment map is empty");
+    if (s->lobes < 0 || s->lobes > SL_LOBES_MAX) return sl_fail(e, "fit: bad lobe count %d", s->lobes);
+    if (s->lobes == 0 && (s->max_lobes < 1 || s->max_lobes > SL_LOBES_MAX || !(s->target_error > 0)))
+        return sl_fail(e, "fit: auto mode needs max_lobes >= 1 and target_error > 0");
+    if (!(s->lambda_max > 0) || !(s->lambda_min >= 0) || !(s->effort > 0) || !(s->conv_lambda > 0))
+        return sl_fail(e, "fit: lambda bounds, effort and conv_lambda must be positive");
+    size_t np = (size_t)map->width * map->height * 3;
+    for (size_t i = 0; i < np; i++)
+        if (!isfinite(map->rgb[i]) || map->rgb[i] < 0)
+            return sl_fail(e, "fit: the environment map has a negative or non-finite value");
+    double t0 = sl_now();
+    fit_state st;
+    memset(&st, 0, sizeof st);
+    st.s = s;
+    st.nlev = efl_pyramid(map, 32, &st.L);
+    st.lam_max = s->lambda_max;
+    st.lam_min = s->lambda_min > 0 ? s->lambda_min : 0.25 * M_PI / map->height;
+    if (st.lam_min > st.lam_max) {
+        for (int k = 0; k < st.nlev; k++) efl_level_free(&st.L[k]);
+        free(st.L);
+        return sl_fail(e, "fit: lambda_min %.4g exceeds lambda_max %.4g", st.lam_min, st.lam_max);
+    }
+    st.res = sl_malloc(sizeof(double) * np);
+    int top = st.nlev - 1;
+    for (int k = 0; k < st.nlev; k++) st.work_total += level_work(&st, k);
+    efl_dict d;
+    double dlo = fmin(fmax(st.lam_min, M_PI / st.L[top].h), st.lam_max);
+    efl_dict_build(&d, &st.L[top], dlo, st.lam_max, s->threads);
+    if (s->verbose) fprintf(stderr, "fit: pyramid + dictionary %.3f s\n", sl_now() - t0);
+
+    int n = s->lobes > 0 ? s->lobes : (s->max_lobes < 8 ? s->max_lobes : 8);
+    int cap = s->lobes > 0 ? s->lobes : s->max_lobes;
+    sl_lobe *lobes = sl_calloc((size_t)cap, sizeof *lobes);
+    if (s->progress) sl_progress_begin(&st.prog, "fit");
+    efl_greedy(&d, lobes, 0, n);
+    fit_levels(&st, &d, lobes, n);
+    double rel = sl_envfit_rel_l2(map, lobes, n, s->threads);
+    while (s->lobes == 0 && rel > s->target_error && n < cap) {
+        /* Ren 2010 Sec. 7: insert lobes where the error is largest and refit. */
+        int n2 = n + (n / 4 > 4 ? n / 4 : 4);
+        if (n2 > cap) n2 = cap;
+        efl_greedy(&d, lobes, n, n2);
+        n = n2;
+        st.work_done = 0;
+        fit_levels(&st, &d, lobes, n);
+        rel = sl_envfit_rel_l2(map, lobes, n, s->threads);
+    }
+    if (s->progress) sl_progress_end(&st.prog);
+    qsort(lobes, (size_t)n, sizeof *lobes, cmp_power);
+    rep->rel_l2 = rel;
+    double tc = sl_now();
+    rep->lobe_conv_rel_l2 = sl_envfit_conv_rel_l2(map, lobes, n, s->conv_lambda, s->threads);
+    if (s->verbose) fprintf(stderr, "fit: convolved error %.3f s\n", sl_now() - tc);
+    rep->iterations = st.iters;
+    rep->levels = st.nlev;
+    rep->time_s = sl_now() - t0;
+    out->count = n;
+    out->lobe = lobes;
+    out->rel_l2 = rep->rel_l2;
+    out->lobe_conv_rel_l2 = rep->lobe_conv_rel_l2;
+    efl_dict_free(&d);
+    free(st.res);
+    for (int k = 0; k < st.nlev; k++) efl_level_free(&st.L[k]);
+    free(st.L);
+    return 0;
+}

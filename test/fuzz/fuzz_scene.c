@@ -1,0 +1,15 @@
+/* fuzz_scene.c: libFuzzer target for the scene loader (JSON -> validated sl_scene). Any input
+ * must either parse or fail with a message; never crash, leak or read out of bounds. */
+#include "scene.h"
+
+#include <stdint.h>
+#include <stdlib.h>
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    static sl_scene s;
+    sl_err e;
+    sl_scene_parse((const char *)data, size, "fuzz.json", &s, &e);
+    return 0;
+}
