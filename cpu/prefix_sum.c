@@ -23,7 +23,8 @@ static void scan_row(const float *in, float *out, size_t n, float *scratch) {
     float s[SL_SCAN_TILE];
     for (size_t t = 0; t < nt; t++) {
         size_t x0 = t * SL_SCAN_TILE;
-        for (sl_uint j = 0; j < SL_SCAN_TILE; j++) s[j] = x0 + j < n ? in[x0 + j] : 0.0f;
+        for (sl_uint j = 0; j < SL_SCAN_TILE; j++)
+            s[j] = x0 + j < n ? in[x0 + j] : 0.0f;
         float total = sl_scan_tile_serial(s);
         for (sl_uint j = 0; j < SL_SCAN_TILE && x0 + j < n; j++)
             out[x0 + j] = j + 1 < SL_SCAN_TILE ? s[j + 1] : total;
@@ -39,7 +40,8 @@ static void scan_row(const float *in, float *out, size_t n, float *scratch) {
 void slc_scan_rows(const float *in, float *out, size_t w, size_t h) {
     size_t ns = scratch_size(w);
     float *scratch = ns ? sl_malloc(ns * sizeof *scratch) : NULL;
-    for (size_t y = 0; y < h; y++) scan_row(in + y * w, out + y * w, w, scratch);
+    for (size_t y = 0; y < h; y++)
+        scan_row(in + y * w, out + y * w, w, scratch);
     free(scratch);
 }
 
@@ -67,9 +69,11 @@ static void scan_cols(const float *in, float *out, size_t w, size_t h, size_t st
             for (sl_uint d = 1; d < T; d <<= 1)
                 for (sl_uint k = 0; k < T / (2u * d); k++) {
                     float *r = s + (size_t)sl_scan_node(d, k) * CW, *l = r - (size_t)d * CW;
-                    for (size_t c = 0; c < cw; c++) r[c] = l[c] + r[c];
+                    for (size_t c = 0; c < cw; c++)
+                        r[c] = l[c] + r[c];
                 }
-            for (size_t c = 0; c < cw; c++) total[c] = s[(T - 1) * CW + c], s[(T - 1) * CW + c] = 0;
+            for (size_t c = 0; c < cw; c++)
+                total[c] = s[(T - 1) * CW + c], s[(T - 1) * CW + c] = 0;
             for (sl_uint d = T / 2; d >= 1; d >>= 1)
                 for (sl_uint k = 0; k < T / (2u * d); k++) {
                     float *r = s + (size_t)sl_scan_node(d, k) * CW, *l = r - (size_t)d * CW;
@@ -81,17 +85,20 @@ static void scan_cols(const float *in, float *out, size_t w, size_t h, size_t st
                 }
             for (size_t j = 0; j < T && y0 + j < h; j++) {
                 const float *src = j + 1 < T ? s + (j + 1) * CW : total;
-                for (size_t c = 0; c < cw; c++) out[(y0 + j) * stride + c0 + c] = src[c];
+                for (size_t c = 0; c < cw; c++)
+                    out[(y0 + j) * stride + c0 + c] = src[c];
             }
             if (sums)
-                for (size_t c = 0; c < cw; c++) sums[t * CW + c] = total[c];
+                for (size_t c = 0; c < cw; c++)
+                    sums[t * CW + c] = total[c];
         }
         if (sums) {
             scan_cols(sums, scanned, cw, nt, CW);
             for (size_t y = T; y < h; y++) {
                 const float *off = scanned + (y / T - 1) * CW;
                 float *o = out + y * stride + c0;
-                for (size_t c = 0; c < cw; c++) o[c] = o[c] + off[c];
+                for (size_t c = 0; c < cw; c++)
+                    o[c] = o[c] + off[c];
             }
         }
     }

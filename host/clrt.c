@@ -10,8 +10,8 @@
 
 typedef struct sl_cl_prog {
     char *file, *options;
-    cl_program prog;   /* NULL when the build failed: the failure is remembered */
-    char err[1024];    /* the failure message, replayed on later requests */
+    cl_program prog; /* NULL when the build failed: the failure is remembered */
+    char err[1024];  /* the failure message, replayed on later requests */
 } sl_cl_prog;
 
 typedef struct sl_cl_kern {
@@ -211,16 +211,16 @@ void sl_cl_inventory_get(sl_cl_inventory *inv) {
         plat_str(ids[i], CL_PLATFORM_NAME, p->name, sizeof p->name);
         plat_str(ids[i], CL_PLATFORM_VENDOR, p->vendor, sizeof p->vendor);
         plat_str(ids[i], CL_PLATFORM_VERSION, p->version, sizeof p->version);
-        p->is_pocl = contains_ci(p->name, "Portable Computing Language") ||
-                     contains_ci(p->version, "pocl");
+        p->is_pocl =
+            contains_ci(p->name, "Portable Computing Language") || contains_ci(p->version, "pocl");
         cl_uint nd = 0;
         p->device_err = clGetDeviceIDs(ids[i], CL_DEVICE_TYPE_ALL, 0, NULL, &nd);
         if (p->device_err != CL_SUCCESS || nd == 0) continue; /* rusticl/clover: 0 devices */
         cl_device_id *dids = sl_calloc(nd, sizeof *dids);
         p->device_err = clGetDeviceIDs(ids[i], CL_DEVICE_TYPE_ALL, nd, dids, NULL);
         if (p->device_err == CL_SUCCESS) {
-            inv->devices = sl_realloc(inv->devices, (size_t)(inv->num_devices + (int)nd) *
-                                                        sizeof *inv->devices);
+            inv->devices = sl_realloc(inv->devices,
+                                      (size_t)(inv->num_devices + (int)nd) * sizeof *inv->devices);
             for (cl_uint j = 0; j < nd; j++) {
                 sl_cl_devinfo *d = &inv->devices[inv->num_devices];
                 memset(d, 0, sizeof *d);
@@ -259,8 +259,7 @@ void sl_cl_device_label(const sl_cl_devinfo *d, char *out, size_t out_size) {
 /* Why there is no OpenCL device at all, for messages. */
 static void no_platform_reason(const sl_cl_inventory *inv, char *out, size_t n) {
     if (inv->platform_err != CL_SUCCESS)
-        snprintf(out, n,
-                 "no OpenCL platforms: clGetPlatformIDs returned %s (%d)%s",
+        snprintf(out, n, "no OpenCL platforms: clGetPlatformIDs returned %s (%d)%s",
                  sl_cl_strerror(inv->platform_err), (int)inv->platform_err,
                  inv->platform_err == -1001
                      ? ", no OpenCL driver (ICD) is installed or OCL_ICD_VENDORS points nowhere"
@@ -383,9 +382,9 @@ static void describe_devices(const sl_cl_inventory *inv, char *out, size_t n) {
     for (int i = 0; i < inv->num_devices && used < n; i++) {
         char label[512];
         sl_cl_device_label(&inv->devices[i], label, sizeof label);
-        used += (size_t)snprintf(out + used, n - used, "%s %d:%d %s", i ? "," : "",
-                                 inv->devices[i].platform_index, inv->devices[i].device_index,
-                                 label);
+        used +=
+            (size_t)snprintf(out + used, n - used, "%s %d:%d %s", i ? "," : "",
+                             inv->devices[i].platform_index, inv->devices[i].device_index, label);
     }
 }
 
@@ -536,14 +535,9 @@ int sl_cl_get_kernel(sl_cl *cl, const char *cl_file, const char *kernel_name,
         if (!cl->kernel_dir[0]) {
             snprintf(p->err, sizeof p->err, "%.200s: %.800s", cl_file, cl->kernel_dir_err);
         } else {
-            sl_cl_build_target t = {cl->ctx,
-                                    cl->device,
-                                    cl->device_name,
-                                    cl->driver_version,
-                                    cl->platform_name,
-                                    cl->platform_version,
-                                    cl->kernel_dir,
-                                    cl->cache_dir};
+            sl_cl_build_target t = {
+                cl->ctx,           cl->device,           cl->device_name, cl->driver_version,
+                cl->platform_name, cl->platform_version, cl->kernel_dir,  cl->cache_dir};
             int from_cache = 0;
             double t0 = sl_now();
             int rc = sl_cl_build_program(&t, cl_file, opts, &p->prog, &from_cache, &be);
@@ -592,16 +586,36 @@ int sl_cl_get_kernel(sl_cl *cl, const char *cl_file, const char *kernel_name,
     return 0;
 }
 
-cl_context sl_cl_context(sl_cl *cl) { return cl ? cl->ctx : NULL; }
-cl_command_queue sl_cl_queue(sl_cl *cl) { return cl ? cl->queue : NULL; }
-cl_device_id sl_cl_device_id(sl_cl *cl) { return cl ? cl->device : NULL; }
-const char *sl_cl_device_name(const sl_cl *cl) { return cl ? cl->device_name : ""; }
-int sl_cl_is_gpu(const sl_cl *cl) { return cl && cl->is_gpu; }
-int sl_cl_has_fp64(const sl_cl *cl) { return cl && cl->fp64; }
-size_t sl_cl_max_work_group_size(const sl_cl *cl) { return cl ? cl->max_wg : 1; }
-cl_ulong sl_cl_max_alloc(const sl_cl *cl) { return cl ? cl->max_alloc : 0; }
-int sl_cl_profiling(const sl_cl *cl) { return cl && cl->profiling; }
-const char *sl_cl_kernel_dir(const sl_cl *cl) { return cl ? cl->kernel_dir : ""; }
+cl_context sl_cl_context(sl_cl *cl) {
+    return cl ? cl->ctx : NULL;
+}
+cl_command_queue sl_cl_queue(sl_cl *cl) {
+    return cl ? cl->queue : NULL;
+}
+cl_device_id sl_cl_device_id(sl_cl *cl) {
+    return cl ? cl->device : NULL;
+}
+const char *sl_cl_device_name(const sl_cl *cl) {
+    return cl ? cl->device_name : "";
+}
+int sl_cl_is_gpu(const sl_cl *cl) {
+    return cl && cl->is_gpu;
+}
+int sl_cl_has_fp64(const sl_cl *cl) {
+    return cl && cl->fp64;
+}
+size_t sl_cl_max_work_group_size(const sl_cl *cl) {
+    return cl ? cl->max_wg : 1;
+}
+cl_ulong sl_cl_max_alloc(const sl_cl *cl) {
+    return cl ? cl->max_alloc : 0;
+}
+int sl_cl_profiling(const sl_cl *cl) {
+    return cl && cl->profiling;
+}
+const char *sl_cl_kernel_dir(const sl_cl *cl) {
+    return cl ? cl->kernel_dir : "";
+}
 
 void sl_cl_build_stats(const sl_cl *cl, int *from_source, int *from_cache, double *build_s) {
     if (from_source) *from_source = cl ? cl->built_from_source : 0;

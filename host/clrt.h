@@ -4,9 +4,13 @@
  * Typical use (see docs/opencl.md):
  *
  *     sl_device dev;
- *     if (sl_device_open(device_spec, &dev, &e)) return fail(e);   // "auto", "pocl", "c", ...
- *     int rc = dev.is_opencl ? slcl_thing(dev.cl, ..., &e) : -1;
- *     if (sl_device_try_fallback(&dev, rc, &e)) rc = 0, slc_thing(...); // build failed under auto
+ *     if (sl_device_open(device_spec, &dev, &e)) return -1;     // "auto", "pocl", "c", ...
+ *     int rc = -1;
+ *     if (dev.is_opencl) {
+ *         rc = slcl_thing(dev.cl, ..., &e);
+ *         if (rc && !sl_device_try_fallback(&dev, rc, &e)) goto fail; // auto: switches to C
+ *     }
+ *     if (!dev.is_opencl) slc_thing(...);                        // the C twin
  *     sl_device_close(&dev);
  *
  * Not thread-safe: one sl_cl per thread (or guard it yourself). */
@@ -19,9 +23,10 @@
 
 typedef struct sl_cl sl_cl; /* opaque: platform, device, context, queue, program/kernel cache */
 typedef struct sl_device {
-    int is_opencl;  /* 0: the C path */
-    sl_cl *cl;      /* non-NULL when is_opencl */
-    char name[256]; /* human-readable choice, e.g. "PoCL CPU (pthread-skylake-avx512)" or "C path" */
+    int is_opencl; /* 0: the C path */
+    sl_cl *cl;     /* non-NULL when is_opencl */
+    char
+        name[256]; /* human-readable choice, e.g. "PoCL CPU (pthread-skylake-avx512)" or "C path" */
 } sl_device;
 
 /* spec: "auto" (GPU OpenCL device, else PoCL CPU device, else C; prints the choice and why on
@@ -95,8 +100,8 @@ typedef struct sl_cl_timer {
 } sl_cl_timer;
 void sl_cl_timer_start(sl_cl_timer *t, sl_cl *cl);
 void sl_cl_timer_add(sl_cl_timer *t, cl_event ev);
-/* Seconds (always call it: it releases the events): device time when every event had profiling info, else wall time. *is_device (may be
- * NULL) tells which. */
+/* Seconds (always call it: it releases the events): device time when every event had profiling
+ * info, else wall time. *is_device (may be NULL) tells which. */
 double sl_cl_timer_stop(sl_cl_timer *t, int *is_device);
 /* Duration END - START of one finished event in seconds, or -1 when unavailable. */
 double sl_cl_event_seconds(cl_event ev);

@@ -29,8 +29,9 @@ int sl_kernel_dir_find(char *out, size_t out_size, sl_err *e) {
     const char *env = getenv("STRANDLIGHT_KERNELS");
     if (env && *env) {
         if (!is_dir(env))
-            return sl_fail(e, "STRANDLIGHT_KERNELS=%s: not a directory (it should point at the "
-                              "kernels/ folder)",
+            return sl_fail(e,
+                           "STRANDLIGHT_KERNELS=%s: not a directory (it should point at the "
+                           "kernels/ folder)",
                            env);
         snprintf(out, out_size, "%s", env);
         return 0;
@@ -93,7 +94,9 @@ static void key_add(key_hash *h, const void *data, size_t n) {
     h->b = sl_hash64(data, n, sl_hash64(&len, sizeof len, h->b));
 }
 
-static void key_add_str(key_hash *h, const char *s) { key_add(h, s, strlen(s)); }
+static void key_add_str(key_hash *h, const char *s) {
+    key_add(h, s, strlen(s));
+}
 
 static int cmp_str(const void *a, const void *b) {
     return strcmp(*(char *const *)a, *(char *const *)b);
@@ -101,8 +104,8 @@ static int cmp_str(const void *a, const void *b) {
 
 static int is_header_name(const char *n) {
     size_t l = strlen(n);
-    return n[0] != '.' && ((l > 2 && strcmp(n + l - 2, ".h") == 0) ||
-                           (l > 4 && strcmp(n + l - 4, ".inc") == 0));
+    return n[0] != '.' &&
+           ((l > 2 && strcmp(n + l - 2, ".h") == 0) || (l > 4 && strcmp(n + l - 4, ".inc") == 0));
 }
 
 /* Every *.h and *.inc in the kernel dir, sorted by name, goes into the key: an edit to any
@@ -141,7 +144,9 @@ static int key_add_headers(key_hash *h, const char *dir, sl_err *e) {
 
 /* ---------------------------------------------------------------- cache file */
 
-static void put_u64(unsigned char *p, uint64_t v) { memcpy(p, &v, 8); }
+static void put_u64(unsigned char *p, uint64_t v) {
+    memcpy(p, &v, 8);
+}
 static uint64_t get_u64(const unsigned char *p) {
     uint64_t v;
     memcpy(&v, p, 8);
@@ -164,8 +169,7 @@ static int cache_load(const sl_cl_build_target *t, const char *path, key_hash ke
     size_t bin_size = size - 40;
     const unsigned char *bin = data + 40;
     cl_int err, status = CL_SUCCESS;
-    cl_program p =
-        clCreateProgramWithBinary(t->ctx, 1, &t->device, &bin_size, &bin, &status, &err);
+    cl_program p = clCreateProgramWithBinary(t->ctx, 1, &t->device, &bin_size, &bin, &status, &err);
     free(data);
     if (err != CL_SUCCESS || status != CL_SUCCESS) {
         if (err == CL_SUCCESS) clReleaseProgram(p);
@@ -241,8 +245,8 @@ int sl_cl_build_program(const sl_cl_build_target *t, const char *cl_file, const 
 
     size_t opt_len = strlen(t->kernel_dir) + strlen(options ? options : "") + 64;
     char *opts = sl_malloc(opt_len);
-    snprintf(opts, opt_len, "-I%s -cl-std=CL1.2%s%s", t->kernel_dir,
-             options && *options ? " " : "", options ? options : "");
+    snprintf(opts, opt_len, "-I%s -cl-std=CL1.2%s%s", t->kernel_dir, options && *options ? " " : "",
+             options ? options : "");
 
     char entry[8192 + 64];
     entry[0] = 0;

@@ -19,7 +19,8 @@ static void print_bytes(cl_ulong b) {
     const char *unit[] = {"B", "KiB", "MiB", "GiB", "TiB"};
     double v = (double)b;
     int u = 0;
-    while (v >= 1024 && u < 4) v /= 1024, u++;
+    while (v >= 1024 && u < 4)
+        v /= 1024, u++;
     printf("%.*f %s", u ? 2 : 0, v, unit[u]);
 }
 
@@ -57,8 +58,7 @@ int cmd_devices(int argc, char **argv) {
             printf("%s device %d:%d (#%d): %s%s\n", i == pick ? "*" : " ", p, d->device_index,
                    d->global_index, d->name, i == pick ? "   <- auto" : "");
             printf("    type %s, %u compute units, %u MHz, max work-group %zu\n",
-                   sl_cl_type_name(d->type), d->compute_units, d->max_clock_mhz,
-                   d->max_work_group);
+                   sl_cl_type_name(d->type), d->compute_units, d->max_clock_mhz, d->max_work_group);
             printf("    global memory ");
             print_bytes(d->global_mem);
             printf(", local memory ");

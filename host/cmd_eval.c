@@ -161,7 +161,7 @@ static int read_inputs(const eval_opts *o, const sl_csv *csv, const sl_material 
             if (sl_csv_number(csv, r, col[k], v, e)) goto bad;
             const char *why = sl_eval_check_input(in[k].range, v);
             if (why) {
-                sl_fail(e, "%s:%ld: %s: %s (got %s)", csv->src, csv->line_no[r], in[k].name, why,
+                sl_fail(e, "%s:%ld: %s: %s (got %.64s)", csv->src, csv->line_no[r], in[k].name, why,
                         csv->fields[r * csv->ncols + (size_t)col[k]]);
                 goto bad;
             }

@@ -54,7 +54,7 @@ static char *fit_record(const char *map_path, const sl_envmap *m, const sl_envfi
         cJSON_AddNumberToObject(st, "target_error", s->target_error);
         cJSON_AddNumberToObject(st, "max_lobes", s->max_lobes);
     }
-    cJSON_AddNumberToObject(st, "lambda_min", s->lambda_min > 0 ? s->lambda_min : M_PI / m->height);
+    cJSON_AddNumberToObject(st, "lambda_min", s->lambda_min > 0 ? s->lambda_min : 0.25 * M_PI / m->height);
     cJSON_AddNumberToObject(st, "lambda_max", s->lambda_max);
     cJSON_AddNumberToObject(st, "effort", s->effort);
     cJSON_AddNumberToObject(st, "conv_lambda_deg", s->conv_lambda * 180 / M_PI);
@@ -67,6 +67,7 @@ static char *fit_record(const char *map_path, const sl_envmap *m, const sl_envfi
     cJSON_AddNumberToObject(fit, "time_s", round(r->time_s * 1000) / 1000);
     cJSON_AddNumberToObject(fit, "iterations", r->iterations);
     cJSON_AddNumberToObject(fit, "levels", r->levels);
+    cJSON_AddNumberToObject(fit, "sun_lobes", r->suns);
     cJSON_AddStringToObject(fit, "version", SL_VERSION);
     char *txt = cJSON_PrintUnformatted(fit);
     cJSON_Delete(fit);

@@ -8,15 +8,16 @@
 #include <string.h>
 
 static void usage(FILE *fp) {
-    fprintf(fp,
-            "usage: strandlight info FILE\n\n"
-            "Describes a hair file or an environment map.\n\n"
-            "  hair (.hair cyHair, .tfx TressFX 3/4, .tfxproj TressFX project, .data USC-HairSalon):\n"
-            "    format, strands, points, segments, bounding box, strand lengths, thickness,\n"
-            "    and whether per-point thickness / transparency / color are present.\n"
-            "    A .tfxproj is loaded with the follow strands its groups ask for.\n"
-            "  environment map (.exr, .hdr): size, channels, luminance statistics.\n\n"
-            "Exit status: 0 ok, 1 bad input (one-line message on stderr), 2 usage error.\n");
+    fprintf(
+        fp,
+        "usage: strandlight info FILE\n\n"
+        "Describes a hair file or an environment map.\n\n"
+        "  hair (.hair cyHair, .tfx TressFX 3/4, .tfxproj TressFX project, .data USC-HairSalon):\n"
+        "    format, strands, points, segments, bounding box, strand lengths, thickness,\n"
+        "    and whether per-point thickness / transparency / color are present.\n"
+        "    A .tfxproj is loaded with the follow strands its groups ask for.\n"
+        "  environment map (.exr, .hdr): size, channels, luminance statistics.\n\n"
+        "Exit status: 0 ok, 1 bad input (one-line message on stderr), 2 usage error.\n");
 }
 
 int cmd_info(int argc, char **argv) {
@@ -28,7 +29,8 @@ int cmd_info(int argc, char **argv) {
         }
         if (argv[i][0] == '-' && argv[i][1] != 0)
             return cli_usage_error("info", "unknown option '%s'", argv[i]);
-        if (path) return cli_usage_error("info", "expected one FILE, got '%s' and '%s'", path, argv[i]);
+        if (path)
+            return cli_usage_error("info", "expected one FILE, got '%s' and '%s'", path, argv[i]);
         path = argv[i];
     }
     if (!path) return cli_usage_error("info", "missing FILE");

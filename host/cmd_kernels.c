@@ -11,20 +11,20 @@
 static void usage(FILE *fp) {
     size_t n;
     const sl_kernel_check *c = sl_kernel_checks(&n);
-    fprintf(fp,
-            "usage: strandlight kernels [--device D] [--only NAME] [--size N] [--reps R] "
-            "[--list]\n\n"
-            "Runs each OpenCL kernel and its C twin on the same input and compares them:\n"
-            "max abs/rel difference, tolerance, PASS/FAIL, best C and OpenCL times (ms).\n"
-            "Exit status 1 if any check fails.\n\n"
-            "  --device D   auto (default), gpu, pocl, opencl, P:D or N (see 'strandlight "
-            "devices');\n"
-            "               with c there is nothing to compare and every check is skipped\n"
-            "  --only NAME  run one check\n"
-            "  --size N     problem size (per check; prefix_sum: an N x N image)\n"
-            "  --reps R     timed repetitions, best reported (default 3)\n"
-            "  --list       list the checks and exit\n\nchecks:\n");
-    for (size_t i = 0; i < n; i++) fprintf(fp, "  %-14s %s\n", c[i].name, c[i].what);
+    fprintf(fp, "usage: strandlight kernels [--device D] [--only NAME] [--size N] [--reps R] "
+                "[--list]\n\n"
+                "Runs each OpenCL kernel and its C twin on the same input and compares them:\n"
+                "max abs/rel difference, tolerance, PASS/FAIL, best C and OpenCL times (ms).\n"
+                "Exit status 1 if any check fails.\n\n"
+                "  --device D   auto (default), gpu, pocl, opencl, P:D or N (see 'strandlight "
+                "devices');\n"
+                "               with c there is nothing to compare and every check is skipped\n"
+                "  --only NAME  run one check\n"
+                "  --size N     problem size (per check; prefix_sum: an N x N image)\n"
+                "  --reps R     timed repetitions, best reported (default 3)\n"
+                "  --list       list the checks and exit\n\nchecks:\n");
+    for (size_t i = 0; i < n; i++)
+        fprintf(fp, "  %-14s %s\n", c[i].name, c[i].what);
 }
 
 static void fmt_num(char *out, size_t n, double v) {
@@ -62,7 +62,8 @@ int cmd_kernels(int argc, char **argv) {
     size_t n;
     const sl_kernel_check *checks = sl_kernel_checks(&n);
     if (list) {
-        for (size_t i = 0; i < n; i++) printf("%-14s %s\n", checks[i].name, checks[i].what);
+        for (size_t i = 0; i < n; i++)
+            printf("%-14s %s\n", checks[i].name, checks[i].what);
         return 0;
     }
     if (only && !sl_kernel_check_find(only))
@@ -104,12 +105,11 @@ int cmd_kernels(int argc, char **argv) {
             snprintf(tol, sizeof tol, "exact");
         else
             snprintf(tol, sizeof tol, "abs %.2g|rel %.2g", r.tol_abs, r.tol_rel);
-        printf("%-18s %-16s %-9s %-9s %-16s %-6s %9.3f %9.3f%s %8.3f\n", checks[i].name,
-               r.problem, ma, mr, tol, r.pass ? "PASS" : "FAIL", 1e3 * r.c_s, 1e3 * r.cl_s,
+        printf("%-18s %-16s %-9s %-9s %-16s %-6s %9.3f %9.3f%s %8.3f\n", checks[i].name, r.problem,
+               ma, mr, tol, r.pass ? "PASS" : "FAIL", 1e3 * r.c_s, 1e3 * r.cl_s,
                r.cl_s_is_device ? "" : "w", 1e3 * r.cl_wall_s);
         if (!r.pass)
-            printf("  %zu of %zu outputs outside the tolerance (%s)\n", r.bad, r.compared,
-                   r.note);
+            printf("  %zu of %zu outputs outside the tolerance (%s)\n", r.bad, r.compared, r.note);
         r.pass ? passed++ : failed++;
     }
     int from_source, from_cache;

@@ -44,16 +44,69 @@ static double level_work(const fit_state *st, int lv) {
     return (double)st->L[lv].w * st->L[lv].h * level_budget(st->nlev - 1 - lv);
 }
 
-static int is_dead(const sl_lobe *l) { return l->rgb[0] <= 0 && l->rgb[1] <= 0 && l->rgb[2] <= 0; }
 
-/* Moves lobes that lost all weight to where the residual is largest (coarse levels only). */
-static int reseed_dead(const efl_dict *d, sl_lobe *lobes, int n) {
+static double lobe_power(const sl_lobe *l) {
+    return (l->rgb[0] + l->rgb[1] + l->rgb[2]) * sl_lobe_integral(l->lambda);
+}
+
+/* Swap moves: a lobe is taken out and a new one put at the dictionary atom that best explains
+ * the residual; the swap is kept if the refined objective drops. Two kinds: merging the two
+ * lobes that overlap most (the greedy start may spend two lobes on one sun, which then settle on
+ * either side of it, a local minimum no gradient step leaves), and dropping the weakest lobe. */
+static double try_swap(efl_eval *ev, const efl_dict *d, sl_lobe *lobes, int n,
+                       const efl_lm_opts *o, double F, int merge, int *iters) {
+    if (n < 2) return -1;
+    sl_lobe *save = sl_malloc(sizeof *save * (size_t)n);
+    memcpy(save, lobes, sizeof *save * (size_t)n);
     int k = 0;
-    for (int j = 0; j < n; j++)
-        if (!is_dead(&lobes[j])) lobes[k++] = lobes[j];
-    if (k == n || k == 0) return 0;
-    efl_greedy(d, lobes, k, n);
-    return 1;
+    if (merge) {
+        /* The pair with the smallest angle relative to their widths (and the pixel size). */
+        double h = M_PI / ev->lv->h, best = 1e300;
+        int bj = -1, bk = -1;
+        for (int j = 0; j < n; j++)
+            for (int q = j + 1; q < n; q++) {
+                const double *a = lobes[j].dir, *b = lobes[q].dir;
+                double ang = acos(fmax(-1.0, fmin(1.0, a[0] * b[0] + a[1] * b[1] + a[2] * b[2])));
+                double r = ang / (lobes[j].lambda + lobes[q].lambda + h);
+                if (r < best) {
+                    best = r;
+                    bj = j;
+                    bk = q;
+                }
+            }
+        if (bj < 0 || best > 1.0) {
+            free(save);
+            return -1;
+        }
+        /* Merged lobe: power-weighted direction, the wider width, the summed power. */
+        sl_lobe *A = &lobes[bj], *B = &lobes[bk];
+        double pa = lobe_power(A), pb = lobe_power(B), m[3];
+        for (int c = 0; c < 3; c++) m[c] = pa * A->dir[c] + pb * B->dir[c];
+        double nm = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+        if (nm > 0)
+            for (int c = 0; c < 3; c++) A->dir[c] = m[c] / nm;
+        double lam = fmax(A->lambda, B->lambda), ia = sl_lobe_integral(A->lambda),
+               ib = sl_lobe_integral(B->lambda), im = sl_lobe_integral(lam);
+        for (int c = 0; c < 3; c++) A->rgb[c] = (A->rgb[c] * ia + B->rgb[c] * ib) / im;
+        A->lambda = lam;
+        k = bk;
+    } else {
+        for (int j = 1; j < n; j++)
+            if (lobe_power(&lobes[j]) < lobe_power(&lobes[k])) k = j;
+    }
+    lobes[k] = lobes[n - 1];
+    efl_greedy(d, lobes, n - 1, n);
+    int it = 0;
+    double F2 = efl_lm(ev, lobes, n, o, &it, NULL, 0, 0);
+    *iters += it;
+    if (F2 < F * (1 - 1e-6)) {
+        free(save);
+        return F2;
+    }
+    memcpy(lobes, save, sizeof *save * (size_t)n);
+    free(save);
+    efl_objective(ev, lobes, n); /* restore the residual buffer */
+    return -1;
 }
 
 static void fit_levels(fit_state *st, const efl_dict *d, sl_lobe *lobes, int n) {
@@ -111,22 +164,21 @@ static void fit_levels(fit_state *st, const efl_dict *d, sl_lobe *lobes, int n) 
             fprintf(stderr, "fit: level %d (%dx%d): %d of %d lobes free, %d iterations, rel_l2 %.5g, %.3f s\n",
                     lv, L->w, L->h, na, n, it, L->energy > 0 ? sqrt(2 * F / L->energy) : 0.0,
                     sl_now() - tl);
-        /* Dead lobes are worth moving while the level is cheap; effort buys more rounds. */
+        /* Swaps are worth trying while the level is cheap; effort buys more of them. */
         if (lv >= top - 1) {
-            int rounds = (int)ceil(s->effort);
-            for (int r = 0; r < rounds && reseed_dead(d, lobes, n); r++) {
-                efl_lm(&ev, lobes, n, &o, &it, NULL, 0, 0);
-                st->iters += it;
-            }
+            int rounds = (int)ceil(3 * s->effort);
+            for (int merge = 1; merge >= 0; merge--)
+                for (int r = 0; r < rounds; r++) {
+                    double F2 = try_swap(&ev, d, lobes, n, &o, F, merge, &st->iters);
+                    if (F2 < 0) break;
+                    F = F2;
+                }
         }
         st->work_done = p1;
         if (s->progress) sl_progress_update(&st->prog, p1);
     }
 }
 
-static double lobe_power(const sl_lobe *l) {
-    return (l->rgb[0] + l->rgb[1] + l->rgb[2]) * sl_lobe_integral(l->lambda);
-}
 
 static int cmp_power(const void *a, const void *b) {
     double pa = lobe_power(a), pb = lobe_power(b);
@@ -153,14 +205,21 @@ int sl_envfit(const sl_envmap *map, const sl_envfit_settings *s, sl_lobes *out,
     fit_state st;
     memset(&st, 0, sizeof st);
     st.s = s;
-    st.nlev = efl_pyramid(map, 32, &st.L);
     st.lam_max = s->lambda_max;
     st.lam_min = s->lambda_min > 0 ? s->lambda_min : 0.25 * M_PI / map->height;
-    if (st.lam_min > st.lam_max) {
-        for (int k = 0; k < st.nlev; k++) efl_level_free(&st.L[k]);
-        free(st.L);
+    if (st.lam_min > st.lam_max)
         return sl_fail(e, "fit: lambda_min %.4g exceeds lambda_max %.4g", st.lam_min, st.lam_max);
-    }
+    int cap_all = s->lobes > 0 ? s->lobes : s->max_lobes;
+    sl_lobe *all = sl_calloc((size_t)cap_all, sizeof *all);
+    /* Suns first, each with a lobe of its own (envfit_sun.c); at most a quarter of the lobes. */
+    float *sky = sl_malloc(sizeof(float) * np);
+    int ns = efl_split_suns(map, cap_all / 4 < 4 ? cap_all / 4 : 4, st.lam_min, st.lam_max,
+                            s->threads, sky, all);
+    sl_envmap skymap = *map;
+    skymap.rgb = sky;
+    if (s->verbose) fprintf(stderr, "fit: %d sun lobe(s), %.3f s\n", ns, sl_now() - t0);
+    st.nlev = efl_pyramid(&skymap, 32, &st.L);
+    free(sky);
     st.res = sl_malloc(sizeof(double) * np);
     int top = st.nlev - 1;
     for (int k = 0; k < st.nlev; k++) st.work_total += level_work(&st, k);
@@ -169,13 +228,14 @@ int sl_envfit(const sl_envmap *map, const sl_envfit_settings *s, sl_lobes *out,
     efl_dict_build(&d, &st.L[top], dlo, st.lam_max, s->threads);
     if (s->verbose) fprintf(stderr, "fit: pyramid + dictionary %.3f s\n", sl_now() - t0);
 
-    int n = s->lobes > 0 ? s->lobes : (s->max_lobes < 8 ? s->max_lobes : 8);
-    int cap = s->lobes > 0 ? s->lobes : s->max_lobes;
-    sl_lobe *lobes = sl_calloc((size_t)cap, sizeof *lobes);
+    /* The sky's lobes; the suns stay as fitted. */
+    sl_lobe *lobes = all + ns;
+    int cap = cap_all - ns;
+    int n = s->lobes > 0 ? cap : (cap < 8 ? cap : 8);
     if (s->progress) sl_progress_begin(&st.prog, "fit");
     efl_greedy(&d, lobes, 0, n);
     fit_levels(&st, &d, lobes, n);
-    double rel = sl_envfit_rel_l2(map, lobes, n, s->threads);
+    double rel = sl_envfit_rel_l2(map, all, ns + n, s->threads);
     while (s->lobes == 0 && rel > s->target_error && n < cap) {
         /* Ren 2010 Sec. 7: insert lobes where the error is largest and refit. */
         int n2 = n + (n / 4 > 4 ? n / 4 : 4);
@@ -184,19 +244,21 @@ int sl_envfit(const sl_envmap *map, const sl_envfit_settings *s, sl_lobes *out,
         n = n2;
         st.work_done = 0;
         fit_levels(&st, &d, lobes, n);
-        rel = sl_envfit_rel_l2(map, lobes, n, s->threads);
+        rel = sl_envfit_rel_l2(map, all, ns + n, s->threads);
     }
     if (s->progress) sl_progress_end(&st.prog);
-    qsort(lobes, (size_t)n, sizeof *lobes, cmp_power);
+    n += ns;
+    qsort(all, (size_t)n, sizeof *all, cmp_power);
     rep->rel_l2 = rel;
     double tc = sl_now();
-    rep->lobe_conv_rel_l2 = sl_envfit_conv_rel_l2(map, lobes, n, s->conv_lambda, s->threads);
+    rep->lobe_conv_rel_l2 = sl_envfit_conv_rel_l2(map, all, n, s->conv_lambda, s->threads);
     if (s->verbose) fprintf(stderr, "fit: convolved error %.3f s\n", sl_now() - tc);
     rep->iterations = st.iters;
     rep->levels = st.nlev;
+    rep->suns = ns;
     rep->time_s = sl_now() - t0;
     out->count = n;
-    out->lobe = lobes;
+    out->lobe = all;
     out->rel_l2 = rep->rel_l2;
     out->lobe_conv_rel_l2 = rep->lobe_conv_rel_l2;
     efl_dict_free(&d);

@@ -41,6 +41,7 @@ typedef struct sl_envfit_report {
     double time_s;           /* fitting time (errors included) */
     int iterations;          /* LM iterations over all levels */
     int levels;              /* pyramid levels used */
+    int suns;                /* lobes given to suns (compact regions > 100x the mean) */
 } sl_envfit_report;
 
 /* Fits lobes to `map`. out->lobe gets s->lobes lobes (or the auto count), sorted by decreasing

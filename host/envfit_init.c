@@ -15,11 +15,14 @@
 #include <string.h>
 
 typedef struct dict_job {
-    efl_dict *d;
+    const efl_dict *d;
+    const double *img; /* w*h*3 */
+    double *out;       /* natoms*3 */
 } dict_job;
 
 static void dict_row(void *ctx, int Y) {
-    efl_dict *d = ((dict_job *)ctx)->d;
+    const dict_job *jb = ctx;
+    const efl_dict *d = jb->d;
     const efl_level *lv = d->lv;
     int w = lv->w, h = lv->h, np = w * h;
     double *t = sl_malloc(sizeof(double) * (size_t)w);
@@ -27,7 +30,7 @@ static void dict_row(void *ctx, int Y) {
     for (int k = 0; k < w; k++) cw[k] = cos(2 * M_PI * k / w);
     for (int li = 0; li < d->nlam; li++) {
         double a = 2.0 / (d->lam[li] * d->lam[li]);
-        double *out = d->corr + ((size_t)li * np + (size_t)Y * w) * 3;
+        double *out = jb->out + ((size_t)li * np + (size_t)Y * w) * 3;
         memset(out, 0, sizeof(double) * 3 * (size_t)w);
         for (int y = 0; y < h; y++) {
             double A = lv->ct[y] * lv->ct[Y] - 1, B = lv->st[y] * lv->st[Y];
@@ -37,7 +40,7 @@ static void dict_row(void *ctx, int Y) {
                 t[k] = exp(a * (A + B * cw[k]));
                 if (t[k] > 1e-17 && (k <= w / 2 ? k : w - k) > D) D = k <= w / 2 ? k : w - k;
             }
-            const float *L = lv->rgb + (size_t)y * w * 3;
+            const double *L = jb->img + (size_t)y * w * 3;
             double om = lv->om[y];
             /* Column offsets k in [klo, khi] (all of them once when the span covers the row). */
             int klo = -D, khi = D;
@@ -81,8 +84,12 @@ void efl_dict_build(efl_dict *d, const efl_level *lv, double lam_lo, double lam_
         double s = -M_PI * 0.5 * l2 * expm1(-8.0 / l2);
         for (int p = 0; p < np; p++) d->self[(size_t)li * np + p] = s;
     }
-    dict_job jb = {d};
+    d->threads = threads;
+    double *img = sl_malloc(sizeof(double) * 3 * (size_t)np);
+    for (size_t i = 0; i < 3 * (size_t)np; i++) img[i] = lv->rgb[i];
+    dict_job jb = {d, img, d->corr};
     efl_parallel(threads, lv->h, dict_row, &jb);
+    free(img);
 }
 
 void efl_dict_free(efl_dict *d) {
@@ -132,13 +139,21 @@ void efl_greedy(const efl_dict *d, sl_lobe *lobes, int n_have, int n_want) {
         efl_dict_atom(d, b, amu[b], &lam);
         aa[b] = 2.0 / (lam * lam);
     }
-    memcpy(res0, d->corr, sizeof(double) * 3 * (size_t)na);
-    for (int j = 0; j < n_have; j++) {
-        double a = 2.0 / (lobes[j].lambda * lobes[j].lambda);
-        for (int b = 0; b < na; b++) {
-            double I = efl_sg_inner(amu[b], aa[b], lobes[j].dir, a);
-            for (int ch = 0; ch < 3; ch++) res0[b * 3 + ch] -= lobes[j].rgb[ch] * I;
-        }
+    if (n_have == 0) {
+        memcpy(res0, d->corr, sizeof(double) * 3 * (size_t)na);
+    } else {
+        /* Correlations of the pixel residual of the lobes we have: computing them on the pixels
+         * (not as corr - closed-form products) keeps a sub-pixel sun from looking unexplained
+         * merely because it is not at its coarse pixel's centre. */
+        const efl_level *lv = d->lv;
+        size_t np3 = (size_t)3 * lv->w * lv->h;
+        double *r = sl_malloc(sizeof(double) * np3);
+        efl_eval ev = {lv, d->threads, EFL_CUT, r, NULL};
+        efl_objective(&ev, lobes, n_have);
+        for (size_t i = 0; i < np3; i++) r[i] = -r[i]; /* map - model */
+        dict_job jb = {d, r, res0};
+        efl_parallel(d->threads, lv->h, dict_row, &jb);
+        free(r);
     }
     memcpy(res, res0, sizeof(double) * 3 * (size_t)na);
     int *atom = sl_malloc(sizeof(int) * add);

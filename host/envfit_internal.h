@@ -85,7 +85,7 @@ double efl_lm(efl_eval *ev, sl_lobe *lobes, int n, const efl_lm_opts *o, int *it
 /* Greedy dictionary on a (coarse) level: correlations of the map with every atom. */
 typedef struct efl_dict {
     const efl_level *lv;
-    int natoms, nlam;
+    int natoms, nlam, threads;
     double lam[16];
     double *corr; /* natoms x 3: sum_p om_p L_p G_atom(p) */
     double *self; /* natoms: integral of G_atom^2 */
@@ -100,5 +100,10 @@ void efl_greedy(const efl_dict *d, sl_lobe *lobes, int n_have, int n_want);
 /* Non-negative least squares min 1/2 c^T A c - b^T c, c >= 0, for each of 3 channels:
  * A is m x m (row-major, positive diagonal), b and c are m x 3; c holds the start on entry. */
 void efl_nnls(const double *A, int m, const double *b, double *c);
+
+/* Splits up to max_suns compact, very bright regions off the map (envfit_sun.c): sky (w*h*3)
+ * gets the map without them, suns[] one fitted lobe each. Returns the number of suns. */
+int efl_split_suns(const sl_envmap *map, int max_suns, double lam_min, double lam_max, int threads,
+                   float *sky, sl_lobe *suns);
 
 #endif

@@ -119,7 +119,6 @@ int sl_envsample(const sl_envmap *map, int n, double conv_lambda, int threads, s
     /* One light per region: power per channel and power-weighted mean direction. */
     out->light = sl_calloc((size_t)nr, sizeof *out->light);
     out->count = nr;
-    float *pc = rel_l2 ? sl_malloc(sizeof(float) * 3 * (size_t)w * h) : NULL;
     double num = 0, den = 0;
     for (int i = 0; i < nr; i++) {
         const region *r = &R[i];
@@ -140,11 +139,12 @@ int sl_envsample(const sl_envmap *map, int n, double conv_lambda, int threads, s
         }
         L->solid_angle = om_sum;
         double nd = sqrt(dsum[0] * dsum[0] + dsum[1] * dsum[1] + dsum[2] * dsum[2]);
-        if (!(nd > 0)) /* black region: its centre */
-            sl_envmap_dir(w, h, 0.5 * (r->x0 + r->x1) - 0.5, 0.5 * (r->y0 + r->y1) - 0.5, dsum),
-                nd = 1;
+        if (!(nd > 0)) { /* black region: its centre */
+            sl_envmap_dir(w, h, 0.5 * (r->x0 + r->x1) - 0.5, 0.5 * (r->y0 + r->y1) - 0.5, dsum);
+            nd = 1;
+        }
         for (int k = 0; k < 3; k++) L->dir[k] = dsum[k] / nd;
-        if (pc)
+        if (rel_l2)
             for (int y = r->y0; y < r->y1; y++) {
                 double om = sl_envmap_pixel_solid_angle(w, h, y);
                 for (int x = r->x0; x < r->x1; x++) {
@@ -157,7 +157,6 @@ int sl_envsample(const sl_envmap *map, int n, double conv_lambda, int threads, s
                 }
             }
     }
-    free(pc);
     free(R);
     qsort(out->light, (size_t)nr, sizeof *out->light, cmp_light);
     if (rel_l2) *rel_l2 = den > 0 ? sqrt(num / den) : (num > 0 ? INFINITY : 0);

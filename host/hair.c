@@ -88,9 +88,11 @@ int sl_hair_validate(const sl_hair *h, const char *name, sl_err *e) {
 }
 
 void sl_hair_bounds(const sl_hair *h, float lo[3], float hi[3]) {
-    for (int c = 0; c < 3; c++) lo[c] = hi[c] = 0;
+    for (int c = 0; c < 3; c++)
+        lo[c] = hi[c] = 0;
     if (!h->num_points) return;
-    for (int c = 0; c < 3; c++) lo[c] = hi[c] = h->pos[c];
+    for (int c = 0; c < 3; c++)
+        lo[c] = hi[c] = h->pos[c];
     for (size_t i = 0; i < h->num_points; i++)
         for (int c = 0; c < 3; c++) {
             float v = h->pos[3 * i + c];
@@ -103,7 +105,8 @@ void sl_hair_estimate_radius(sl_hair *h) {
     float lo[3], hi[3];
     sl_hair_bounds(h, lo, hi);
     double d2 = 0;
-    for (int c = 0; c < 3; c++) d2 += ((double)hi[c] - lo[c]) * ((double)hi[c] - lo[c]);
+    for (int c = 0; c < 3; c++)
+        d2 += ((double)hi[c] - lo[c]) * ((double)hi[c] - lo[c]);
     double r = SL_HAIR_RADIUS_SCALE * sqrt(d2);
     /* A zero-extent model is rejected by sl_hair_validate (zero-length strands); keep r > 0. */
     h->default_radius = r > 0 && r < FLT_MAX ? (float)r : 1.0f;
@@ -130,7 +133,8 @@ static int seg_dir(const float *a, const float *b, float t[3]) {
     }
     double len = sqrt(len2);
     if (!(len > 4.0 * FLT_EPSILON * m) || !(len >= FLT_MIN) || !isfinite(len)) return 0;
-    for (int c = 0; c < 3; c++) t[c] = (float)(d[c] / len);
+    for (int c = 0; c < 3; c++)
+        t[c] = (float)(d[c] / len);
     return 1;
 }
 
@@ -175,7 +179,8 @@ void sl_hair_point_tangent(const sl_hair *h, uint32_t strand, uint32_t point, fl
         memcpy(t, a, sizeof a);
         return;
     }
-    for (int c = 0; c < 3; c++) t[c] = (float)(s[c] / len);
+    for (int c = 0; c < 3; c++)
+        t[c] = (float)(s[c] / len);
 }
 
 int sl_hair_is_hair_path(const char *path) {
@@ -228,7 +233,8 @@ int sl_hair_load(const char *path, sl_hair *out, sl_err *e) {
 static float *filled(size_t n, int k, const float *v) {
     float *a = sl_malloc(n * k * sizeof *a);
     for (size_t i = 0; i < n; i++)
-        for (int c = 0; c < k; c++) a[i * k + c] = v[c];
+        for (int c = 0; c < k; c++)
+            a[i * k + c] = v[c];
     return a;
 }
 
@@ -242,7 +248,8 @@ static void append_array(float **arr, const float *dst_def, uint32_t n_dst, cons
         memcpy(*arr + (size_t)n_dst * k, src_arr, (size_t)n_src * k * sizeof **arr);
     else
         for (size_t i = 0; i < n_src; i++)
-            for (int c = 0; c < k; c++) (*arr)[((size_t)n_dst + i) * k + c] = src_def[c];
+            for (int c = 0; c < k; c++)
+                (*arr)[((size_t)n_dst + i) * k + c] = src_def[c];
 }
 
 int sl_hair_append(sl_hair *dst, const sl_hair *src, sl_err *e) {

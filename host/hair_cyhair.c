@@ -20,7 +20,8 @@ enum {
 
 /* Copies count little-endian floats from an unaligned buffer. */
 static void read_floats(const unsigned char *src, size_t count, float *dst) {
-    for (size_t i = 0; i < count; i++) dst[i] = sl_rd_f32(src + 4 * i);
+    for (size_t i = 0; i < count; i++)
+        dst[i] = sl_rd_f32(src + 4 * i);
 }
 
 int sl_hair_parse_cyhair(const unsigned char *d, size_t n, const char *name, sl_hair *out,
@@ -73,7 +74,8 @@ int sl_hair_parse_cyhair(const unsigned char *d, size_t n, const char *name, sl_
         sum = (uint64_t)S * ((uint64_t)def_segments + 1);
     }
     if (sum != P)
-        return sl_fail(e, "%s: the strands' segment counts add up to %llu points, the header says %u",
+        return sl_fail(e,
+                       "%s: the strands' segment counts add up to %llu points, the header says %u",
                        name, (unsigned long long)sum, P);
 
     sl_hair_alloc(out, S, P);
@@ -122,7 +124,8 @@ int sl_hair_parse_cyhair(const unsigned char *d, size_t n, const char *name, sl_
         out->color = sl_malloc((size_t)P * 3 * sizeof *out->color);
         read_floats(a, 3 * (size_t)P, out->color);
     }
-    for (int c = 0; c < 3; c++) out->default_color[c] = sl_rd_f32(d + 28 + 4 * c);
+    for (int c = 0; c < 3; c++)
+        out->default_color[c] = sl_rd_f32(d + 28 + 4 * c);
     /* Defaults that no point uses are not validated: give them neutral values. */
     if (out->radius && !(out->default_radius > 0 && isfinite(out->default_radius)))
         out->default_radius = 0;

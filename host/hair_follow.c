@@ -25,7 +25,8 @@ static void normal_plane(const float t[3], float t0[3], float t1[3]) {
     t0[1] = t[2] * ax[0] - t[0] * ax[2];
     t0[2] = t[0] * ax[1] - t[1] * ax[0];
     float l = sqrtf(t0[0] * t0[0] + t0[1] * t0[1] + t0[2] * t0[2]);
-    for (int c = 0; c < 3; c++) t0[c] /= l;
+    for (int c = 0; c < 3; c++)
+        t0[c] /= l;
     t1[0] = t[1] * t0[2] - t[2] * t0[1];
     t1[1] = t[2] * t0[0] - t[0] * t0[2];
     t1[2] = t[0] * t0[1] - t[1] * t0[0];
@@ -44,9 +45,9 @@ int sl_hair_add_follow(sl_hair *h, const sl_hair_follow *f, sl_err *e) {
     if (f->per_guide == 0) return 0;
     const uint64_t F1 = (uint64_t)f->per_guide + 1;
     if ((uint64_t)h->num_points * F1 > SL_HAIR_MAX_POINTS)
-        return sl_fail(e, "tfx_follow: %d follow strands per guide would make %llu points (limit %u)",
-                       f->per_guide, (unsigned long long)((uint64_t)h->num_points * F1),
-                       SL_HAIR_MAX_POINTS);
+        return sl_fail(
+            e, "tfx_follow: %d follow strands per guide would make %llu points (limit %u)",
+            f->per_guide, (unsigned long long)((uint64_t)h->num_points * F1), SL_HAIR_MAX_POINTS);
     const uint32_t S = h->num_strands, S2 = (uint32_t)(S * F1), P2 = (uint32_t)(h->num_points * F1);
     uint32_t *first = sl_malloc(((size_t)S2 + 1) * sizeof *first);
     float *pos = sl_malloc((size_t)P2 * 3 * sizeof *pos);
@@ -66,17 +67,20 @@ int sl_hair_add_follow(sl_hair *h, const sl_hair_follow *f, sl_err *e) {
                 float r = f->root_radius * sqrtf(sl_hair_rng_float(&rng));
                 float ph = 6.28318530718f * sl_hair_rng_float(&rng);
                 float c = r * cosf(ph), sn = r * sinf(ph);
-                for (int k = 0; k < 3; k++) off[k] = c * t0[k] + sn * t1[k];
+                for (int k = 0; k < 3; k++)
+                    off[k] = c * t0[k] + sn * t1[k];
             }
             first[so++] = po;
             for (uint32_t k = 0; k < n; k++) {
                 float scale = 1.0f + f->tip_spread * (float)k / (float)(n - 1);
                 for (int c = 0; c < 3; c++)
-                    pos[3 * (size_t)(po + k) + c] = h->pos[3 * (size_t)(a + k) + c] + off[c] * scale;
+                    pos[3 * (size_t)(po + k) + c] =
+                        h->pos[3 * (size_t)(a + k) + c] + off[c] * scale;
             }
             if (rad) memcpy(rad + po, h->radius + a, n * sizeof *rad);
             if (tr) memcpy(tr + po, h->transparency + a, n * sizeof *tr);
-            if (col) memcpy(col + 3 * (size_t)po, h->color + 3 * (size_t)a, 3 * (size_t)n * sizeof *col);
+            if (col)
+                memcpy(col + 3 * (size_t)po, h->color + 3 * (size_t)a, 3 * (size_t)n * sizeof *col);
             po += n;
         }
     }
@@ -84,8 +88,10 @@ int sl_hair_add_follow(sl_hair *h, const sl_hair_follow *f, sl_err *e) {
     for (size_t i = 0; i < 3 * (size_t)P2; i++)
         if (!isfinite(pos[i])) {
             free(first), free(pos), free(rad), free(tr), free(col);
-            return sl_fail(e, "tfx_follow: root_radius %g x (1 + tip_spread %g) overflows the "
-                              "coordinates", (double)f->root_radius, (double)f->tip_spread);
+            return sl_fail(e,
+                           "tfx_follow: root_radius %g x (1 + tip_spread %g) overflows the "
+                           "coordinates",
+                           (double)f->root_radius, (double)f->tip_spread);
         }
     free(h->strand_first);
     free(h->pos);

@@ -2,13 +2,14 @@
  *
  * Roots lie on a scalp-like cap of a sphere of radius R = SL_PROC_HEAD_RADIUS centred at the
  * origin (+Y up; the face, towards +Z below the hairline, and everything below the ears stay
- * bare). Each strand leaves the scalp at a shallow angle, combed down and back, and bends under "gravity": a small
- * integration of a direction pulled towards -Y, with the head as a collision sphere (strands
- * rest on a shell slightly outside it, a different shell per strand so they layer). Length is
- * SL_PROC_LENGTH +-15 %. Wavy and curly styles add a planar sine or a helix around that base
- * curve, ramped in over the first units so the roots stay on the scalp. Wave phases vary smoothly
- * over the scalp so that neighbouring strands clump as real hair does. All randomness comes from
- * a splitmix64 stream seeded by `seed`: the same parameters give the same hair bit for bit. */
+ * bare). Each strand leaves the scalp at a shallow angle, combed down and back, and bends under
+ * "gravity": a small integration of a direction pulled towards -Y, with the head as a collision
+ * sphere (strands rest on a shell slightly outside it, a different shell per strand so they layer).
+ * Length is SL_PROC_LENGTH +-15 %. Wavy and curly styles add a planar sine or a helix around that
+ * base curve, ramped in over the first units so the roots stay on the scalp. Wave phases vary
+ * smoothly over the scalp so that neighbouring strands clump as real hair does. All randomness
+ * comes from a splitmix64 stream seeded by `seed`: the same parameters give the same hair bit for
+ * bit. */
 #include "hair.h"
 
 #include <math.h>
@@ -29,7 +30,9 @@ const char *sl_hair_style_name(int style) {
     return style >= 0 && style < 3 ? style_names[style] : "unknown";
 }
 
-static float len3(const float v[3]) { return sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+static float len3(const float v[3]) {
+    return sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
 
 static void normalize3(float v[3]) {
     float l = len3(v);
@@ -64,9 +67,11 @@ static void drape(const float n[3], float R, float shell, float ds, int K, float
      * direction is mostly the "downhill" tangent of -Y - 0.3 Z, plus some of the normal. */
     float comb[3] = {0, -1, -0.3f}, dn = comb[0] * n[0] + comb[1] * n[1] + comb[2] * n[2];
     float p[3] = {R * n[0], R * n[1], R * n[2]}, d[3];
-    for (int c = 0; c < 3; c++) comb[c] -= dn * n[c];
+    for (int c = 0; c < 3; c++)
+        comb[c] -= dn * n[c];
     normalize3(comb);
-    for (int c = 0; c < 3; c++) d[c] = 0.4f * n[c] + comb[c];
+    for (int c = 0; c < 3; c++)
+        d[c] = 0.4f * n[c] + comb[c];
     normalize3(d);
     memcpy(base, p, sizeof p);
     for (int k = 1; k <= K; k++) {
@@ -75,7 +80,8 @@ static void drape(const float n[3], float R, float shell, float ds, int K, float
         float q[3] = {p[0] + ds * d[0], p[1] + ds * d[1], p[2] + ds * d[2]};
         float r = len3(q);
         if (r < shell) { /* slide along the head */
-            for (int c = 0; c < 3; c++) q[c] *= shell / r;
+            for (int c = 0; c < 3; c++)
+                q[c] *= shell / r;
             float nd[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
             if (len3(nd) > 0) {
                 normalize3(nd);
@@ -131,7 +137,8 @@ int sl_hair_generate(const sl_hair_procedural *pp, sl_hair *out, sl_err *e) {
             if (i >= K) i = K - 1;
             float f = u - (float)i, *a = base + 3 * i, *b = a + 3;
             float p[3], t[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-            for (int c = 0; c < 3; c++) p[c] = a[c] + f * (b[c] - a[c]);
+            for (int c = 0; c < 3; c++)
+                p[c] = a[c] + f * (b[c] - a[c]);
             if (k == 0) memcpy(p, base, sizeof p); /* the root exactly on the scalp */
             if (amp > 0 && k > 0) {
                 float sarc = u * ds, w = sarc / 3.0f; /* ramp in over 3 units */
@@ -149,10 +156,12 @@ int sl_hair_generate(const sl_hair_procedural *pp, sl_hair *out, sl_err *e) {
                 float ang = 2 * PI_F * sarc / wavelength + phase;
                 float c1 = amp * ramp * sinf(ang);
                 float c2 = pp->style == SL_PROC_CURLY ? amp * ramp * (cosf(ang) - 1) : 0;
-                for (int c = 0; c < 3; c++) p[c] += c1 * n1[c] + c2 * n2[c];
+                for (int c = 0; c < 3; c++)
+                    p[c] += c1 * n1[c] + c2 * n2[c];
                 float r = len3(p);
                 if (r < R * 1.01f)
-                    for (int c = 0; c < 3; c++) p[c] *= R * 1.01f / r;
+                    for (int c = 0; c < 3; c++)
+                        p[c] *= R * 1.01f / r;
             }
             memcpy(o + 3 * k, p, sizeof p);
         }
@@ -161,12 +170,13 @@ int sl_hair_generate(const sl_hair_procedural *pp, sl_hair *out, sl_err *e) {
     free(base);
     snprintf(out->format, sizeof out->format, "procedural (%s)", sl_hair_style_name(pp->style));
     snprintf(out->notes, sizeof out->notes,
-             "seed %u, head radius %g, length %g +-15%%, %u points per strand", pp->seed,
-             (double)R, (double)SL_PROC_LENGTH, P);
+             "seed %u, head radius %g, length %g +-15%%, %u points per strand", pp->seed, (double)R,
+             (double)SL_PROC_LENGTH, P);
     out->default_radius = SL_PROC_RADIUS;
     out->radius_source = SL_RADIUS_PROCEDURAL;
     out->default_transparency = 0;
-    for (int c = 0; c < 3; c++) out->default_color[c] = 1;
+    for (int c = 0; c < 3; c++)
+        out->default_color[c] = 1;
     if (sl_hair_validate(out, "procedural", e)) {
         sl_hair_free(out);
         return -1;

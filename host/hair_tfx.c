@@ -13,8 +13,8 @@
 
 typedef struct tfx_array {
     const char *what;
-    uint32_t offset;   /* 0 = absent */
-    uint64_t bytes;    /* element size x count */
+    uint32_t offset; /* 0 = absent */
+    uint64_t bytes;  /* element size x count */
 } tfx_array;
 
 /* Checks that every present array lies inside [header, n) and that the file ends with the last
@@ -42,12 +42,12 @@ static int check_arrays(const tfx_array *arr, int count, uint32_t header, size_t
     return 0;
 }
 
-int sl_hair_parse_tfx(const unsigned char *d, size_t n, const char *name, sl_hair *out,
-                      sl_err *e) {
+int sl_hair_parse_tfx(const unsigned char *d, size_t n, const char *name, sl_hair *out, sl_err *e) {
     memset(out, 0, sizeof *out);
     float version = n >= 4 ? sl_rd_f32(d) : 0;
     if (n < 4 || !(version >= 2.5f && version < 5.0f))
-        return sl_fail(e, "%s: not a TressFX file (version float %g at offset 0, expected 3.x or 4.x)",
+        return sl_fail(e,
+                       "%s: not a TressFX file (version float %g at offset 0, expected 3.x or 4.x)",
                        name, (double)version);
     int v3 = version < 3.5f;
     uint32_t header = v3 ? 296 : 160;
@@ -86,13 +86,15 @@ int sl_hair_parse_tfx(const unsigned char *d, size_t n, const char *name, sl_hai
 
     sl_hair_alloc(out, S, (uint32_t)SV);
     snprintf(out->format, sizeof out->format, "TressFX %d .tfx", v3 ? 3 : 4);
-    for (uint32_t s = 0; s <= S; s++) out->strand_first[s] = s * V;
+    for (uint32_t s = 0; s <= S; s++)
+        out->strand_first[s] = s * V;
     for (uint64_t i = 0; i < SV; i++)
         for (int c = 0; c < 3; c++)
             out->pos[3 * i + c] = sl_rd_f32(d + pos_off + pos_stride * i + 4 * c);
     sl_hair_estimate_radius(out);
     out->default_transparency = 0;
-    for (int c = 0; c < 3; c++) out->default_color[c] = 1;
+    for (int c = 0; c < 3; c++)
+        out->default_color[c] = 1;
     if (thick_off) {
         /* TressFX's per-strand thickness is a coefficient of the fiber radius. */
         out->radius = sl_malloc(SV * sizeof *out->radius);
@@ -100,10 +102,12 @@ int sl_hair_parse_tfx(const unsigned char *d, size_t n, const char *name, sl_hai
             float k = sl_rd_f32(d + thick_off + 4 * (size_t)s);
             if (!(k >= 0 && isfinite(k))) {
                 sl_hair_free(out);
-                return sl_fail(e, "%s: strand %u: thickness coefficient %g is not a finite number >= 0",
-                               name, s, (double)k);
+                return sl_fail(
+                    e, "%s: strand %u: thickness coefficient %g is not a finite number >= 0", name,
+                    s, (double)k);
             }
-            for (uint32_t v = 0; v < V; v++) out->radius[(size_t)s * V + v] = k * out->default_radius;
+            for (uint32_t v = 0; v < V; v++)
+                out->radius[(size_t)s * V + v] = k * out->default_radius;
         }
         out->radius_source = SL_RADIUS_PER_POINT;
     }
@@ -119,9 +123,10 @@ int sl_hair_parse_tfx(const unsigned char *d, size_t n, const char *name, sl_hai
         if (all[i].offset && used < sizeof extra)
             used += (size_t)snprintf(extra + used, sizeof extra - used, ", %s", all[i].what);
     if (v3)
-        snprintf(out->notes, sizeof out->notes,
-                 "version %.1f, %u vertices per strand, followHairsPerGuide %u, bothEndsImmovable %u%s",
-                 (double)version, V, sl_rd_u32(d + 12), sl_rd_u32(d + 16), extra);
+        snprintf(
+            out->notes, sizeof out->notes,
+            "version %.1f, %u vertices per strand, followHairsPerGuide %u, bothEndsImmovable %u%s",
+            (double)version, V, sl_rd_u32(d + 12), sl_rd_u32(d + 16), extra);
     else
         snprintf(out->notes, sizeof out->notes, "version %.1f, %u vertices per strand%s",
                  (double)version, V, extra);
@@ -147,7 +152,8 @@ int sl_tfxproj_parse(const char *text, size_t len, const char *path, sl_tfxproj 
     size_t pos = 0;
     for (int line_no = 1; pos < len; line_no++) {
         size_t end = pos;
-        while (end < len && text[end] != '\n') end++;
+        while (end < len && text[end] != '\n')
+            end++;
         char line[1024];
         size_t ll = end - pos;
         if (ll >= sizeof line)
@@ -253,7 +259,8 @@ int sl_hair_load_tfxproj(const char *path, int with_follow, sl_hair *out, sl_err
             }
         }
         double d2 = 0;
-        for (int c = 0; c < 3; c++) d2 += ((double)hi[c] - lo[c]) * ((double)hi[c] - lo[c]);
+        for (int c = 0; c < 3; c++)
+            d2 += ((double)hi[c] - lo[c]) * ((double)hi[c] - lo[c]);
         float r = (float)(SL_HAIR_RADIUS_SCALE * sqrt(d2));
         size_t used = 0;
         for (int i = 0; rc == 0 && i < loaded; i++) {
@@ -272,12 +279,14 @@ int sl_hair_load_tfxproj(const char *path, int with_follow, sl_hair *out, sl_err
         memcpy(notes, out->notes, sizeof notes);
         *out = g[0];
         memset(&g[0], 0, sizeof g[0]);
-        for (int i = 1; rc == 0 && i < loaded; i++) rc = sl_hair_append(out, &g[i], e);
+        for (int i = 1; rc == 0 && i < loaded; i++)
+            rc = sl_hair_append(out, &g[i], e);
         snprintf(out->format, sizeof out->format, "TressFX project .tfxproj");
         memcpy(out->notes, notes, sizeof notes);
         if (rc) sl_hair_free(out);
     }
-    for (int i = 0; i < SL_TFXPROJ_MAX_GROUPS; i++) sl_hair_free(&g[i]);
+    for (int i = 0; i < SL_TFXPROJ_MAX_GROUPS; i++)
+        sl_hair_free(&g[i]);
     free(g);
     free(p);
     return rc;

@@ -9,12 +9,11 @@
 
 #include <string.h>
 
-int sl_hair_parse_usc(const unsigned char *d, size_t n, const char *name, sl_hair *out,
-                      sl_err *e) {
+int sl_hair_parse_usc(const unsigned char *d, size_t n, const char *name, sl_hair *out, sl_err *e) {
     memset(out, 0, sizeof *out);
     if (n < 4)
-        return sl_fail(e, "%s: truncated: %zu bytes, a .data file starts with a 4-byte strand count",
-                       name, n);
+        return sl_fail(
+            e, "%s: truncated: %zu bytes, a .data file starts with a 4-byte strand count", name, n);
     int32_t S = (int32_t)sl_rd_u32(d);
     if (S <= 0) return sl_fail(e, "%s: strand count %d (must be positive)", name, (int)S);
     /* Pass 1: sizes only. */
@@ -23,9 +22,9 @@ int sl_hair_parse_usc(const unsigned char *d, size_t n, const char *name, sl_hai
     uint32_t kept = 0, dropped = 0;
     for (int32_t s = 0; s < S; s++) {
         if (n - off < 4)
-            return sl_fail(e,
-                           "%s: truncated: the file declares %d strands but ends after %d (%zu bytes)",
-                           name, (int)S, (int)s, n);
+            return sl_fail(
+                e, "%s: truncated: the file declares %d strands but ends after %d (%zu bytes)",
+                name, (int)S, (int)s, n);
         int32_t np = (int32_t)sl_rd_u32(d + off);
         if (np <= 0)
             return sl_fail(e, "%s: strand %d: point count %d (must be positive)", name, (int)s,
@@ -70,7 +69,8 @@ int sl_hair_parse_usc(const unsigned char *d, size_t n, const char *name, sl_hai
     out->dropped_strands = dropped;
     sl_hair_estimate_radius(out);
     out->default_transparency = 0;
-    for (int c = 0; c < 3; c++) out->default_color[c] = 1;
+    for (int c = 0; c < 3; c++)
+        out->default_color[c] = 1;
     snprintf(out->notes, sizeof out->notes, "%d strands in the file, %u single-point dropped",
              (int)S, dropped);
     return 0;

@@ -118,6 +118,16 @@ int sl_json_object(const sl_json_ctx *c, const cJSON *obj, const char *key, int 
 cJSON *sl_json_parse(const char *text, size_t len, const char *file, sl_err *e) {
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithLengthOpts(text, len, &end, 0);
+    /* Text after the JSON value ("{} x") is an error too (cJSON's own check wants a NUL). */
+    if (root) {
+        const char *p = end;
+        while (p < text + len && (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r')) p++;
+        if (p < text + len && *p) {
+            cJSON_Delete(root);
+            root = NULL;
+            end = p;
+        }
+    }
     if (!root) {
         int line = 1;
         const char *stop = end ? end : text;

@@ -41,7 +41,8 @@ const sl_kernel_check *sl_kernel_checks(size_t *count);
 const sl_kernel_check *sl_kernel_check_find(const char *name);
 
 /* Compares n kernel outputs against the C twin's with r->tol_abs / r->tol_rel already set: fills
- * max_abs, max_rel, compared, bad and pass (bad == 0). NaN matches NaN, inf matches the same inf. */
+ * max_abs, max_rel, compared, bad and pass (bad == 0). NaN matches NaN, inf matches the same inf.
+ */
 void sl_kernel_compare(const float *kernel_out, const float *c_out, size_t n,
                        sl_kernel_check_result *r);
 

@@ -170,8 +170,8 @@ static int read_orders(const mctx *c, const cJSON *obj, sl_material *m, sl_err *
     if (d > SL_MATERIAL_MAX_ORDERS) {
         char msg[160];
         snprintf(msg, sizeof msg,
-                 "must be at most %d (the float backends allow at most 32; higher orders carry "
-                 "no energy in double precision)",
+                 "must be at most %d (the float backends allow at most 32; the orders above are "
+                 "still counted, in f_rest)",
                  SL_MATERIAL_MAX_ORDERS);
         return key_fail(c, "orders", msg, e);
     }
@@ -235,14 +235,9 @@ int sl_material_from_json(const cJSON *obj, const char *file, const char *key_pr
     if (v) {
         if (read_number(&c, v, "eccentricity", &m->eccentricity, e)) return -1;
         if (!(m->eccentricity > 0)) return key_fail(&c, "eccentricity", "must be > 0", e);
-        /* Xu 2011 Eq. 24: eta*_1 - 1 = (eta-1)(2a^2-1) and eta*_2 - 1 = (eta-1)(2/a^2-1), so
-         * eta* > 1 for every azimuth only when 1/sqrt(2) < a < sqrt(2); outside, TRT's eta'
-         * is undefined for some directions. */
-        if (!(m->eccentricity > sqrt(0.5) && m->eccentricity < sqrt(2.0)))
-            return key_fail(&c, "eccentricity",
-                            "must be between 0.7071 and 1.4142 (1/sqrt(2) < a < sqrt(2), else "
-                            "Xu Eq. 24 gives eta* <= 1)",
-                            e);
+        /* Outside 1/sqrt(2) < a < sqrt(2), Xu Eq. 24 gives eta* <= 1 for some azimuths; the
+         * contract accepts every a > 0, and the TRT term is then 0 where its refraction is
+         * impossible (docs/numerics.md, "Eccentricity"). */
     }
     double wc = 0;
     int gwc;

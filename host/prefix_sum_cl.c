@@ -39,7 +39,9 @@ static int get_kernels(sl_cl *cl, sl_ps_variant v, ps_kernels *k, sl_err *e) {
     return sl_cl_get_kernel(cl, PS_FILE, "sl_scan_col_add_offsets", NULL, &k->col_add, e);
 }
 
-static size_t round_up(size_t x, size_t m) { return (x + m - 1) / m * m; }
+static size_t round_up(size_t x, size_t m) {
+    return (x + m - 1) / m * m;
+}
 
 static int enqueue(sl_cl *cl, cl_kernel k, const char *name, const size_t global[2],
                    const size_t *local, sl_cl_timer *timer, sl_err *e) {
@@ -60,8 +62,8 @@ static int set_args(cl_kernel k, const char *name, sl_err *e, int n, const size_
 
 static cl_mem new_buffer(sl_cl *cl, size_t floats, sl_err *e) {
     cl_int err;
-    cl_mem m = clCreateBuffer(sl_cl_context(cl), CL_MEM_READ_WRITE, floats * sizeof(float), NULL,
-                              &err);
+    cl_mem m =
+        clCreateBuffer(sl_cl_context(cl), CL_MEM_READ_WRITE, floats * sizeof(float), NULL, &err);
     if (err != CL_SUCCESS) {
         char what[128];
         snprintf(what, sizeof what, "prefix sum: clCreateBuffer(%zu floats)", floats);
@@ -86,7 +88,8 @@ static int scan_rows(sl_cl *cl, const ps_kernels *k, cl_mem in, cl_mem out, cl_u
         /* Fixed local sizes everywhere: PoCL generates code per local size at the first enqueue
          * (toolchain.md sec. 2), so letting it choose per image shape recompiles often. */
         const size_t global_wg[2] = {(size_t)nt * SL_SCAN_WG, h}, local_wg[2] = {SL_SCAN_WG, 1};
-        const size_t global_serial[2] = {nt, round_up(h, PS_LOCAL)}, local_serial[2] = {1, PS_LOCAL};
+        const size_t global_serial[2] = {nt, round_up(h, PS_LOCAL)},
+                     local_serial[2] = {1, PS_LOCAL};
         cl_kernel kt = serial ? k->tiles_serial : k->tiles;
         const char *name = serial ? "sl_scan_tiles_serial" : "sl_scan_tiles";
         if (set_args(kt, name, e, serial ? 6 : 5, sz, v) ||
@@ -159,8 +162,9 @@ static int check_size(sl_cl *cl, const ps_kernels *k, size_t w, size_t h, sl_err
     if (w < 1 || h < 1 || w >= (1u << 31) || h >= (1u << 31) || w > SIZE_MAX / sizeof(float) / h)
         return sl_fail(e, "prefix sum: bad image size %zu x %zu", w, h);
     if ((cl_ulong)w * h * sizeof(float) > sl_cl_max_alloc(cl))
-        return sl_fail(e, "prefix sum: %zu x %zu image exceeds the device's largest buffer (%llu "
-                          "bytes)",
+        return sl_fail(e,
+                       "prefix sum: %zu x %zu image exceeds the device's largest buffer (%llu "
+                       "bytes)",
                        w, h, (unsigned long long)sl_cl_max_alloc(cl));
     if (k->variant == SL_PS_WORKGROUP &&
         sl_cl_max_work_group_size(cl) < SL_TRANSPOSE_TILE * SL_TRANSPOSE_TILE)
@@ -171,8 +175,8 @@ static int check_size(sl_cl *cl, const ps_kernels *k, size_t w, size_t h, sl_err
 
 /* Work-group variant: rows, transpose, rows (the columns), transpose back. Serial variant: rows
  * into out, then columns in place. in == out is fine either way. */
-static int prefix_sum_buf(sl_cl *cl, const ps_kernels *k, cl_mem in, cl_mem out, size_t w,
-                          size_t h, sl_cl_timer *timer, sl_err *e) {
+static int prefix_sum_buf(sl_cl *cl, const ps_kernels *k, cl_mem in, cl_mem out, size_t w, size_t h,
+                          sl_cl_timer *timer, sl_err *e) {
     if (check_size(cl, k, w, h, e)) return -1;
     if (k->variant == SL_PS_SERIAL)
         return scan_rows(cl, k, in, out, (cl_uint)w, (cl_uint)h, timer, e) ||
@@ -191,16 +195,16 @@ static int prefix_sum_buf(sl_cl *cl, const ps_kernels *k, cl_mem in, cl_mem out,
     return rc;
 }
 
-int slcl_prefix_sum_2d_buf(sl_cl *cl, cl_mem in, cl_mem out, size_t w, size_t h,
-                           sl_cl_timer *timer, sl_err *e) {
+int slcl_prefix_sum_2d_buf(sl_cl *cl, cl_mem in, cl_mem out, size_t w, size_t h, sl_cl_timer *timer,
+                           sl_err *e) {
     ps_kernels k;
     int rc = get_kernels(cl, SL_PS_AUTO, &k, e);
     if (rc) return rc;
     return prefix_sum_buf(cl, &k, in, out, w, h, timer, e);
 }
 
-int slcl_prefix_sum_2d(sl_cl *cl, const float *in, float *out, size_t w, size_t h,
-                       double *kernel_s, sl_err *e) {
+int slcl_prefix_sum_2d(sl_cl *cl, const float *in, float *out, size_t w, size_t h, double *kernel_s,
+                       sl_err *e) {
     return slcl_prefix_sum_2d_variant(cl, in, out, w, h, SL_PS_AUTO, kernel_s, e);
 }
 
@@ -218,10 +222,9 @@ int slcl_prefix_sum_2d_variant(sl_cl *cl, const float *in, float *out, size_t w,
     sl_cl_timer_start(&timer, cl);
     rc = prefix_sum_buf(cl, &k, buf, buf, w, h, &timer, e);
     double s = sl_cl_timer_stop(&timer, NULL);
-    if (rc == 0 &&
-        sl_cl_check(clEnqueueReadBuffer(sl_cl_queue(cl), buf, CL_TRUE, 0, w * h * sizeof(float),
-                                        out, 0, NULL, NULL),
-                    "prefix sum: clEnqueueReadBuffer", e))
+    if (rc == 0 && sl_cl_check(clEnqueueReadBuffer(sl_cl_queue(cl), buf, CL_TRUE, 0,
+                                                   w * h * sizeof(float), out, 0, NULL, NULL),
+                               "prefix sum: clEnqueueReadBuffer", e))
         rc = -1;
     clReleaseMemObject(buf);
     if (kernel_s) *kernel_s = s;

@@ -16,8 +16,8 @@ typedef enum sl_ps_variant { SL_PS_AUTO = 0, SL_PS_WORKGROUP, SL_PS_SERIAL } sl_
  * bit-identical to slc_prefix_sum_2d. 1 <= w, h < 2^31. kernel_s (may be NULL) gets the device
  * time of the kernels (profiling events; wall clock if the driver has none), transfers excluded.
  * Returns 0, -1 or SL_CL_EKERNEL (kernels could not be built: see sl_device_try_fallback). */
-int slcl_prefix_sum_2d(sl_cl *cl, const float *in, float *out, size_t w, size_t h,
-                       double *kernel_s, sl_err *e);
+int slcl_prefix_sum_2d(sl_cl *cl, const float *in, float *out, size_t w, size_t h, double *kernel_s,
+                       sl_err *e);
 
 /* The same with a chosen variant (tests, `strandlight kernels`). */
 int slcl_prefix_sum_2d_variant(sl_cl *cl, const float *in, float *out, size_t w, size_t h,
@@ -26,8 +26,8 @@ int slcl_prefix_sum_2d_variant(sl_cl *cl, const float *in, float *out, size_t w,
 /* The same on device buffers of w * h floats (in == out allowed), for pipelines that keep data on
  * the device. Kernels are enqueued on sl_cl_queue(cl) in order; events go to timer (may be NULL).
  * Returns when enqueued (call clFinish or read out with a blocking read). */
-int slcl_prefix_sum_2d_buf(sl_cl *cl, cl_mem in, cl_mem out, size_t w, size_t h,
-                           sl_cl_timer *timer, sl_err *e);
+int slcl_prefix_sum_2d_buf(sl_cl *cl, cl_mem in, cl_mem out, size_t w, size_t h, sl_cl_timer *timer,
+                           sl_err *e);
 
 /* On whatever dev is: OpenCL when dev->is_opencl (falling back to C, with a warning, when the
  * kernels cannot be built and dev came from "auto"), else the C twin. Returns 0 or -1. */

@@ -1,16 +1,16 @@
 /* prefix_sum.cl: inclusive row and column scans and a transpose, from which host/prefix_sum_cl.c
  * builds the 2-D inclusive prefix sum (summed-area table) in two variants: work-group tile scans
  * of rows with transposes for the columns (GPUs), or one work-item per tile running the tile's
- * tree serially, rows then columns in place (CPU devices). The C twin is cpu/prefix_sum.c; the scan steps
- * come from prefix_sum.h so both add in the same order. */
+ * tree serially, rows then columns in place (CPU devices). The C twin is cpu/prefix_sum.c; the scan
+ * steps come from prefix_sum.h so both add in the same order. */
 #include "prefix_sum.h"
 
 /* One work-group scans one tile of SL_SCAN_TILE elements of one row (global size
  * (ntiles * SL_SCAN_WG, rows)): out gets the inclusive scan within the tile, tile_sums[row *
  * ntiles + tile] the tile total. Elements past the row end count as 0. */
 __kernel __attribute__((reqd_work_group_size(SL_SCAN_WG, 1, 1))) void
-sl_scan_tiles(__global const float *in, __global float *out, __global float *tile_sums,
-              uint width, uint ntiles) {
+sl_scan_tiles(__global const float *in, __global float *out, __global float *tile_sums, uint width,
+              uint ntiles) {
     __local float s[SL_SCAN_TILE];
     const uint lid = (uint)get_local_id(0);
     const uint tile = (uint)get_group_id(0);
@@ -52,7 +52,8 @@ __kernel void sl_scan_tiles_serial(__global const float *in, __global float *out
     const size_t base = row * width;
     const uint x0 = tile * SL_SCAN_TILE;
     float s[SL_SCAN_TILE];
-    for (uint j = 0u; j < SL_SCAN_TILE; j++) s[j] = x0 + j < width ? in[base + x0 + j] : 0.0f;
+    for (uint j = 0u; j < SL_SCAN_TILE; j++)
+        s[j] = x0 + j < width ? in[base + x0 + j] : 0.0f;
     const float total = sl_scan_tile_serial(s);
     for (uint j = 0u; j < SL_SCAN_TILE && x0 + j < width; j++)
         out[base + x0 + j] = j + 1u < SL_SCAN_TILE ? s[j + 1u] : total;

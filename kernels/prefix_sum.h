@@ -1,9 +1,9 @@
 /* prefix_sum.h: constants and the scan steps shared by kernels/prefix_sum.cl and its C twin
  * cpu/prefix_sum.c, so both add the same numbers in the same order (bit-identical results).
  *
- * The 2-D inclusive prefix sum (summed-area table, Crow 1984) is done as: scan every row, transpose,
- * scan every row again, transpose back. A row is scanned in tiles of SL_SCAN_TILE elements with
- * Blelloch's work-efficient exclusive scan (Blelloch 1990, "Prefix sums and their
+ * The 2-D inclusive prefix sum (summed-area table, Crow 1984) is done as: scan every row,
+ * transpose, scan every row again, transpose back. A row is scanned in tiles of SL_SCAN_TILE
+ * elements with Blelloch's work-efficient exclusive scan (Blelloch 1990, "Prefix sums and their
  * applications": up-sweep/reduce then down-sweep), the tile totals of a row are scanned the same
  * way (recursively) and added back to the tiles after the first. */
 #ifndef SL_PREFIX_SUM_H
@@ -17,10 +17,14 @@
 #define SL_TRANSPOSE_TILE 16u
 
 /* Number of tiles covering n elements. */
-SL_INLINE sl_uint sl_scan_num_tiles(sl_uint n) { return (n + SL_SCAN_TILE - 1u) / SL_SCAN_TILE; }
+SL_INLINE sl_uint sl_scan_num_tiles(sl_uint n) {
+    return (n + SL_SCAN_TILE - 1u) / SL_SCAN_TILE;
+}
 
 /* The tree node that pair k updates at stride d (both sweeps): i = (k+1)*2d - 1. */
-SL_INLINE sl_uint sl_scan_node(sl_uint d, sl_uint k) { return (k + 1u) * 2u * d - 1u; }
+SL_INLINE sl_uint sl_scan_node(sl_uint d, sl_uint k) {
+    return (k + 1u) * 2u * d - 1u;
+}
 
 /* The two scan steps are macros so they work on local memory (the work-group kernel) and on
  * private memory (C, the serial kernel) alike: OpenCL 1.2 has no generic address space.
@@ -30,7 +34,7 @@ SL_INLINE sl_uint sl_scan_node(sl_uint d, sl_uint k) { return (k + 1u) * 2u * d 
  * SL_SCAN_TILE/2, s[SL_SCAN_TILE-1] holds the tile total. */
 #define SL_SCAN_UP_STEP(s, d, k)                                                                   \
     do {                                                                                           \
-        const sl_uint i_ = sl_scan_node((d), (k));                                               \
+        const sl_uint i_ = sl_scan_node((d), (k));                                                 \
         (s)[i_] = (s)[i_ - (d)] + (s)[i_];                                                         \
     } while (0)
 
@@ -39,7 +43,7 @@ SL_INLINE sl_uint sl_scan_node(sl_uint d, sl_uint k) { return (k + 1u) * 2u * d 
  * At the end s[j] holds the exclusive prefix sum of elements 0..j-1. */
 #define SL_SCAN_DOWN_STEP(s, d, k)                                                                 \
     do {                                                                                           \
-        const sl_uint i_ = sl_scan_node((d), (k));                                               \
+        const sl_uint i_ = sl_scan_node((d), (k));                                                 \
         const float left_ = (s)[i_ - (d)];                                                         \
         (s)[i_ - (d)] = (s)[i_];                                                                   \
         (s)[i_] = (s)[i_] + left_;                                                                 \
@@ -50,11 +54,13 @@ SL_INLINE sl_uint sl_scan_node(sl_uint d, sl_uint k) { return (k + 1u) * 2u * d 
  * Used by the C twin and by the barrier-free kernel variant (same additions, same order). */
 SL_INLINE float sl_scan_tile_serial(float *s) {
     for (sl_uint d = 1u; d < SL_SCAN_TILE; d <<= 1)
-        for (sl_uint k = 0u; k < SL_SCAN_TILE / (2u * d); k++) SL_SCAN_UP_STEP(s, d, k);
+        for (sl_uint k = 0u; k < SL_SCAN_TILE / (2u * d); k++)
+            SL_SCAN_UP_STEP(s, d, k);
     float total = s[SL_SCAN_TILE - 1u];
     s[SL_SCAN_TILE - 1u] = 0.0f;
     for (sl_uint d = SL_SCAN_TILE / 2u; d >= 1u; d >>= 1)
-        for (sl_uint k = 0u; k < SL_SCAN_TILE / (2u * d); k++) SL_SCAN_DOWN_STEP(s, d, k);
+        for (sl_uint k = 0u; k < SL_SCAN_TILE / (2u * d); k++)
+            SL_SCAN_DOWN_STEP(s, d, k);
     return total;
 }
 

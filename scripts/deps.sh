@@ -9,7 +9,7 @@ PKGS=(
   libopenexr-dev
   libcjson-dev libstb-dev
   libglfw3-dev libgl-dev libegl-dev libgl1-mesa-dri xvfb xauth
-  python3
+  python3 python3-numpy python3-matplotlib bc
 )
 SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi

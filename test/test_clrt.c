@@ -145,8 +145,7 @@ TEST(clrt_device_bad_specs) {
         sl_device dev;
         sl_err e = {{0}};
         CHECK_MSG(sl_device_open(bad[i], &dev, &e) == -1, "spec '%s' accepted", bad[i]);
-        CHECK_MSG(strstr(e.msg, bad[i]) != NULL, "message '%s' does not name '%s'", e.msg,
-                  bad[i]);
+        CHECK_MSG(strstr(e.msg, bad[i]) != NULL, "message '%s' does not name '%s'", e.msg, bad[i]);
         CHECK(dev.is_opencl == 0 && dev.cl == NULL);
         CHECK(strchr(e.msg, '\n') == NULL);
     }
@@ -262,7 +261,8 @@ TEST(clrt_disk_cache) {
         CHECK(slcl_prefix_sum_2d(dev.cl, in, out, 3, 2, NULL, &e) == 0);
         /* 3 x 2 image [1 2 3; 4 5 6]: SAT [1 3 6; 5 12 21] (small integers: exact). */
         const float want[6] = {1, 3, 6, 5, 12, 21};
-        for (int i = 0; i < 6; i++) CHECK_NEAR(out[i], want[i], 0);
+        for (int i = 0; i < 6; i++)
+            CHECK_NEAR(out[i], want[i], 0);
         sl_cl_build_stats(dev.cl, &src, &hit, NULL);
         CHECK(src == 0 && hit == 1);
     }
@@ -285,7 +285,8 @@ TEST(clrt_disk_cache) {
             FILE *fp = fopen(p, "wb");
             if (fp) {
                 if (round == 0) {
-                    for (size_t i = size / 2; i < size / 2 + 64 && i < size; i++) data[i] ^= 0x5a;
+                    for (size_t i = size / 2; i < size / 2 + 64 && i < size; i++)
+                        data[i] ^= 0x5a;
                     fwrite(data, 1, size, fp);
                 } else {
                     fwrite(data, 1, size < 20 ? size : 20, fp);
@@ -298,15 +299,13 @@ TEST(clrt_disk_cache) {
         CHECK(sl_device_open(device_spec(), &dev, &e) == 0);
         CHECK(sl_cl_get_kernel(dev.cl, "prefix_sum.cl", "sl_transpose", NULL, &k1, &e) == 0);
         sl_cl_build_stats(dev.cl, &src, &hit, NULL);
-        CHECK_MSG(src == 1 && hit == 0, "round %d: from source %d, from cache %d", round, src,
-                  hit);
+        CHECK_MSG(src == 1 && hit == 0, "round %d: from source %d, from cache %d", round, src, hit);
         sl_device_close(&dev);
         /* ... and the rewritten entry is good again. */
         CHECK(sl_device_open(device_spec(), &dev, &e) == 0);
         CHECK(sl_cl_get_kernel(dev.cl, "prefix_sum.cl", "sl_transpose", NULL, &k1, &e) == 0);
         sl_cl_build_stats(dev.cl, &src, &hit, NULL);
-        CHECK_MSG(src == 0 && hit == 1, "round %d: from source %d, from cache %d", round, src,
-                  hit);
+        CHECK_MSG(src == 0 && hit == 1, "round %d: from source %d, from cache %d", round, src, hit);
         sl_device_close(&dev);
     }
     CHECK(count_files(dir, ".tmp") == 0);
@@ -357,7 +356,7 @@ TEST(clrt_build_failure_explicit) {
     CHECK(strstr(e.msg, "prefix_sum.cl") != NULL);
     CHECK(strchr(e.msg, '\n') == NULL);
     CHECK_MSG(strstr(log, "strandlight: prefix_sum.cl: ") != NULL, "log: %s", log);
-    CHECK(rc2 == -1);        /* no fallback for an explicitly requested device */
+    CHECK(rc2 == -1);          /* no fallback for an explicitly requested device */
     CHECK(dev.is_opencl == 1); /* still the OpenCL device */
     free(log);
     sl_device_close(&dev);
@@ -381,7 +380,8 @@ TEST(clrt_build_failure_auto_falls_back) {
     int was_opencl = dev.is_opencl, may = sl_device_may_fallback(&dev);
     enum { W = 300, H = 7 };
     static float in[W * H], out[W * H], want[W * H];
-    for (int i = 0; i < W * H; i++) in[i] = (float)(i % 13) - 6.0f;
+    for (int i = 0; i < W * H; i++)
+        in[i] = (float)(i % 13) - 6.0f;
     int rc = open_rc == 0 ? sl_prefix_sum_2d(&dev, in, out, W, H, &e) : -1;
     char *log = capture_end(&c);
     env_restore(&s);
@@ -418,7 +418,8 @@ TEST(clrt_device_facts_and_timer) {
     /* A kernel timed with events: device time no larger than the wall time around it. */
     enum { N = 512 };
     static float in[N * N], out[N * N];
-    for (int i = 0; i < N * N; i++) in[i] = 1.0f;
+    for (int i = 0; i < N * N; i++)
+        in[i] = 1.0f;
     double ks = -1;
     double t0 = sl_now();
     CHECK(slcl_prefix_sum_2d(dev.cl, in, out, N, N, &ks, &e) == 0);

@@ -341,3 +341,19 @@ TEST(envmap_info_small_file) {
     CHECK(strstr(text, "non-finite values: 0") != NULL);
     free(b);
 }
+
+/* Regression (found by fuzz_envmap: stb_image looped forever): stb keeps header lines as C
+ * strings, so a line starting with a NUL byte ends the header. The structure check must read the
+ * header the same way, here accepting this complete 2 x 1 flat file exactly as stb does. */
+TEST(envmap_hdr_nul_line_ends_header) {
+    static const unsigned char d[] = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\0junk\n-Y 1 +X 2\n"
+                                     "\x80\x40\x20\x81"
+                                     "\x10\x20\x30\x80";
+    sl_envmap m;
+    sl_err e;
+    CHECK_MSG(sl_envmap_load_memory(d, sizeof d - 1, "nul.hdr", 0, &m, &e) == 0, "%s", e.msg);
+    if (!m.rgb) return;
+    CHECK(m.width == 2 && m.height == 1);
+    CHECK(m.rgb[0] == 128 * ldexp(1.0, 0x81 - 136) && m.rgb[5] == 48 * ldexp(1.0, 0x80 - 136));
+    sl_envmap_free(&m);
+}

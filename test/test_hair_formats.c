@@ -14,7 +14,8 @@ typedef struct buf {
     size_t n;
 } buf;
 static void put_u32(buf *b, uint32_t v) {
-    for (int i = 0; i < 4; i++) b->d[b->n++] = (unsigned char)(v >> (8 * i));
+    for (int i = 0; i < 4; i++)
+        b->d[b->n++] = (unsigned char)(v >> (8 * i));
 }
 static void put_u16(buf *b, uint32_t v) {
     b->d[b->n++] = (unsigned char)v;
@@ -30,7 +31,8 @@ static void put_zeros(buf *b, size_t k) {
     b->n += k;
 }
 static void set_u32(buf *b, size_t at, uint32_t v) {
-    for (int i = 0; i < 4; i++) b->d[at + i] = (unsigned char)(v >> (8 * i));
+    for (int i = 0; i < 4; i++)
+        b->d[at + i] = (unsigned char)(v >> (8 * i));
 }
 
 /* Loads b as `name`; returns the loader's status and leaves the message in e. */
@@ -45,13 +47,15 @@ static void expect_fail(const buf *b, const char *name, const char *want) {
     int rc = load(b, name, &h, &e);
     CHECK_MSG(rc == -1, "%s: loaded, expected an error containing '%s'", name, want);
     CHECK_MSG(strstr(e.msg, want) != NULL, "message '%s' lacks '%s'", e.msg, want);
-    CHECK_MSG(strncmp(e.msg, name, strlen(name)) == 0, "message '%s' does not start with %s",
-              e.msg, name);
+    CHECK_MSG(strncmp(e.msg, name, strlen(name)) == 0, "message '%s' does not start with %s", e.msg,
+              name);
     CHECK(h.pos == NULL && h.num_strands == 0); /* nothing left to free */
 }
 
 /* Point value used in the synthetic files: distinct per point and coordinate. */
-static float coord(uint32_t i, int c) { return 0.5f * (float)i + 0.25f * (float)c * (float)(i % 3 + 1); }
+static float coord(uint32_t i, int c) {
+    return 0.5f * (float)i + 0.25f * (float)c * (float)(i % 3 + 1);
+}
 
 /* cyHair with strands of 3, 4 and 2 points (segments 2, 3, 1), or 3 x default 2 segments. */
 static void make_cyhair(buf *b, uint32_t flags) {
@@ -63,23 +67,28 @@ static void make_cyhair(buf *b, uint32_t flags) {
     put_u32(b, S);
     put_u32(b, P);
     put_u32(b, flags);
-    put_u32(b, 2);             /* default segments */
-    put_f32(b, 0.3f);          /* default thickness (diameter) */
-    put_f32(b, 0.25f);         /* default transparency */
+    put_u32(b, 2);     /* default segments */
+    put_f32(b, 0.3f);  /* default thickness (diameter) */
+    put_f32(b, 0.25f); /* default transparency */
     put_f32(b, 0.1f), put_f32(b, 0.2f), put_f32(b, 0.4f);
     memcpy(b->d + b->n, "test", 5);
     put_zeros(b, 88); /* info: "test" then NULs */
     if (flags & 1)
-        for (int s = 0; s < 3; s++) put_u16(b, segs[s]);
+        for (int s = 0; s < 3; s++)
+            put_u16(b, segs[s]);
     for (uint32_t i = 0; i < P; i++)
-        for (int c = 0; c < 3; c++) put_f32(b, coord(i, c));
+        for (int c = 0; c < 3; c++)
+            put_f32(b, coord(i, c));
     if (flags & 4)
-        for (uint32_t i = 0; i < P; i++) put_f32(b, 0.01f * (float)(i + 1)); /* thickness */
+        for (uint32_t i = 0; i < P; i++)
+            put_f32(b, 0.01f * (float)(i + 1)); /* thickness */
     if (flags & 8)
-        for (uint32_t i = 0; i < P; i++) put_f32(b, 0.05f * (float)i); /* transparency */
+        for (uint32_t i = 0; i < P; i++)
+            put_f32(b, 0.05f * (float)i); /* transparency */
     if (flags & 16)
         for (uint32_t i = 0; i < P; i++)
-            for (int c = 0; c < 3; c++) put_f32(b, 0.1f * (float)c + 0.01f * (float)i);
+            for (int c = 0; c < 3; c++)
+                put_f32(b, 0.1f * (float)c + 0.01f * (float)i);
 }
 
 TEST(hair_cyhair_every_flag_combination) {
@@ -98,7 +107,8 @@ TEST(hair_cyhair_every_flag_combination) {
         for (int s = 0; s <= 3; s++)
             CHECK(h.strand_first[s] == ((flags & 1) ? first3[s] : firstd[s]));
         for (uint32_t i = 0; i < P; i++)
-            for (int c = 0; c < 3; c++) CHECK(h.pos[3 * i + c] == coord(i, c));
+            for (int c = 0; c < 3; c++)
+                CHECK(h.pos[3 * i + c] == coord(i, c));
         if (flags & 4) {
             CHECK(h.radius != NULL);
             /* radius is half the stored diameter; halving a float is exact */
@@ -175,7 +185,8 @@ TEST(hair_cyhair_bad_inputs) {
     memcpy(b.d + 128 + 12 * 4 + 4, &inf, 4);
     expect_fail(&b, "t.hair", "coordinate y is not finite (inf)");
     make_cyhair(&b, 0x02);
-    for (int k = 1; k < 3; k++) memcpy(b.d + 128 + 12 * k, b.d + 128, 12); /* strand 0 coincident */
+    for (int k = 1; k < 3; k++)
+        memcpy(b.d + 128 + 12 * k, b.d + 128, 12); /* strand 0 coincident */
     expect_fail(&b, "t.hair", "strand 0 has zero length (all 3 points coincide)");
     make_cyhair(&b, 0x06);
     float neg = -1;
@@ -201,13 +212,15 @@ static void make_tfx3(buf *b, uint32_t S, uint32_t V, int with_thickness) {
     put_u32(b, 0);
     put_u32(b, 1); /* bothEndsImmovable */
     put_zeros(b, 124);
-    put_u32(b, 296);                                     /* verticesOffset */
+    put_u32(b, 296);                                   /* verticesOffset */
     put_u32(b, with_thickness ? 296 + 12 * S * V : 0); /* perStrandThicknessOffset */
     put_zeros(b, 4 * 4 + 128);
     for (uint32_t i = 0; i < S * V; i++)
-        for (int c = 0; c < 3; c++) put_f32(b, coord(i, c));
+        for (int c = 0; c < 3; c++)
+            put_f32(b, coord(i, c));
     if (with_thickness)
-        for (uint32_t s = 0; s < S; s++) put_f32(b, 0.5f + (float)s);
+        for (uint32_t s = 0; s < S; s++)
+            put_f32(b, 0.5f + (float)s);
 }
 
 /* TressFX 4: positions (x,y,z,w) at 160, strand UVs after them. */
@@ -223,10 +236,12 @@ static void make_tfx4(buf *b, uint32_t S, uint32_t V, int with_color) {
     put_u32(b, with_color ? 160 + 16 * S * V + 8 * S : 0);
     put_zeros(b, 128);
     for (uint32_t i = 0; i < S * V; i++) {
-        for (int c = 0; c < 3; c++) put_f32(b, coord(i, c));
+        for (int c = 0; c < 3; c++)
+            put_f32(b, coord(i, c));
         put_f32(b, i % V ? 1.0f : 0.0f);
     }
-    for (uint32_t s = 0; s < S; s++) put_f32(b, 0.1f * (float)s), put_f32(b, 0.2f);
+    for (uint32_t s = 0; s < S; s++)
+        put_f32(b, 0.1f * (float)s), put_f32(b, 0.2f);
     if (with_color)
         for (uint32_t i = 0; i < S * V; i++)
             put_f32(b, 0.3f), put_f32(b, 0.4f), put_f32(b, 0.5f), put_f32(b, 1.0f);
@@ -242,7 +257,8 @@ TEST(hair_tfx3_and_tfx4_synthetic) {
     CHECK(strcmp(h.format, "TressFX 3 .tfx") == 0);
     CHECK(h.num_strands == 5 && h.num_points == 20 && h.strand_first[5] == 20);
     for (uint32_t i = 0; i < 20; i++)
-        for (int c = 0; c < 3; c++) CHECK(h.pos[3 * i + c] == coord(i, c));
+        for (int c = 0; c < 3; c++)
+            CHECK(h.pos[3 * i + c] == coord(i, c));
     CHECK(h.radius == NULL && h.radius_source == SL_RADIUS_ESTIMATED && h.default_radius > 0);
     sl_hair_free(&h);
 
@@ -258,7 +274,8 @@ TEST(hair_tfx3_and_tfx4_synthetic) {
     CHECK(strcmp(h.format, "TressFX 4 .tfx") == 0);
     CHECK(h.num_strands == 3 && h.num_points == 12);
     for (uint32_t i = 0; i < 12; i++)
-        for (int c = 0; c < 3; c++) CHECK(h.pos[3 * i + c] == coord(i, c)); /* w skipped */
+        for (int c = 0; c < 3; c++)
+            CHECK(h.pos[3 * i + c] == coord(i, c)); /* w skipped */
     CHECK(h.color != NULL && h.color[0] == 0.3f && h.color[35] == 0.5f);
     sl_hair_free(&h);
 
@@ -275,7 +292,8 @@ TEST(hair_tfx_bad_inputs) {
     b.n = 200;
     expect_fail(&b, "t.tfx", "truncated header (200 bytes, a TressFX 3 header has 296)");
     b.n = full - 12;
-    expect_fail(&b, "t.tfx", "truncated: vertex positions for 5 strands x 4 vertices end at byte 536");
+    expect_fail(&b, "t.tfx",
+                "truncated: vertex positions for 5 strands x 4 vertices end at byte 536");
     b.n = full + 8;
     expect_fail(&b, "t.tfx", "8 trailing bytes");
     b.n = full;
@@ -308,7 +326,8 @@ TEST(hair_tfx_bad_inputs) {
     b.n -= 4;
     expect_fail(&b, "t.tfx", "truncated: strand UVs for 3 strands x 4 vertices");
     make_tfx4(&b, 3, 4, 0);
-    for (int k = 1; k < 4; k++) memcpy(b.d + 160 + 16 * (4 + k), b.d + 160 + 16 * 4, 12);
+    for (int k = 1; k < 4; k++)
+        memcpy(b.d + 160 + 16 * (4 + k), b.d + 160 + 16 * 4, 12);
     expect_fail(&b, "t.tfx", "strand 1 has zero length (all 4 points coincide)");
     memcpy(b.d, "abcd", 4);
     expect_fail(&b, "t.bin", "unknown hair format");
@@ -322,7 +341,8 @@ static void make_usc(buf *b, int S, const int *np) {
     for (int s = 0; s < S; s++) {
         put_u32(b, (uint32_t)np[s]);
         for (int k = 0; k < np[s]; k++, i++)
-            for (int c = 0; c < 3; c++) put_f32(b, coord(i, c));
+            for (int c = 0; c < 3; c++)
+                put_f32(b, coord(i, c));
     }
 }
 
@@ -375,7 +395,8 @@ TEST(hair_helpers_bounds_up_axis_append) {
     sl_hair_bounds(&h, lo, hi);
     for (int c = 0; c < 3; c++) { /* independent min/max over the generating function */
         float l = coord(0, c), u = coord(0, c);
-        for (uint32_t i = 1; i < 9; i++) l = fminf(l, coord(i, c)), u = fmaxf(u, coord(i, c));
+        for (uint32_t i = 1; i < 9; i++)
+            l = fminf(l, coord(i, c)), u = fmaxf(u, coord(i, c));
         CHECK(lo[c] == l && hi[c] == u);
     }
     sl_hair_z_up_to_y_up(&h); /* a point on +Z goes to +Y; +Y goes to -Z */

@@ -10,7 +10,8 @@
 
 static double dist3(const float *a, const float *b) {
     double d2 = 0;
-    for (int c = 0; c < 3; c++) d2 += ((double)a[c] - b[c]) * ((double)a[c] - b[c]);
+    for (int c = 0; c < 3; c++)
+        d2 += ((double)a[c] - b[c]) * ((double)a[c] - b[c]);
     return sqrt(d2);
 }
 static double norm3(const float *a) {
@@ -24,7 +25,8 @@ static double straightness(const sl_hair *h) {
     for (uint32_t s = 0; s < h->num_strands; s++) {
         uint32_t a = h->strand_first[s], b = h->strand_first[s + 1];
         double arc = 0;
-        for (uint32_t i = a; i + 1 < b; i++) arc += dist3(h->pos + 3 * i, h->pos + 3 * (i + 1));
+        for (uint32_t i = a; i + 1 < b; i++)
+            arc += dist3(h->pos + 3 * i, h->pos + 3 * (i + 1));
         sum += dist3(h->pos + 3 * a, h->pos + 3 * (b - 1)) / arc;
     }
     return sum / h->num_strands;
@@ -40,7 +42,8 @@ TEST(hair_procedural_deterministic_and_counted) {
     CHECK_MSG(sl_hair_generate(&p, &c, &e) == 0, "%s", e.msg);
     if (!a.pos || !b.pos || !c.pos) return;
     CHECK(a.num_strands == 500 && a.num_points == 500 * 16);
-    for (uint32_t s = 0; s <= 500; s++) CHECK(a.strand_first[s] == 16 * s);
+    for (uint32_t s = 0; s <= 500; s++)
+        CHECK(a.strand_first[s] == 16 * s);
     CHECK(memcmp(a.pos, b.pos, sizeof(float) * 3 * a.num_points) == 0); /* same seed: bit equal */
     CHECK(memcmp(a.pos, c.pos, sizeof(float) * 3 * a.num_points) != 0); /* another seed differs */
     CHECK(strcmp(a.format, "procedural (wavy)") == 0);
@@ -68,7 +71,8 @@ TEST(hair_procedural_looks_like_a_head_of_hair) {
             for (uint32_t i = a; i < b; i++)
                 if (norm3(h.pos + 3 * i) < R - 1e-3) outside = 0; /* never inside the head */
             double arc = 0;
-            for (uint32_t i = a; i + 1 < b; i++) arc += dist3(h.pos + 3 * i, h.pos + 3 * (i + 1));
+            for (uint32_t i = a; i + 1 < b; i++)
+                arc += dist3(h.pos + 3 * i, h.pos + 3 * (i + 1));
             arc_sum += arc, arc_min = fmin(arc_min, arc), arc_max = fmax(arc_max, arc);
             root_y += r[1], tip_y += h.pos[3 * (b - 1) + 1];
         }
@@ -137,7 +141,8 @@ static void make_guides(sl_hair *h) {
     for (int i = 0; i < 10; i++) {
         h->radius[i] = 0.01f * (float)(i + 1);
         h->transparency[i] = 0.05f * (float)i;
-        for (int c = 0; c < 3; c++) h->color[3 * i + c] = 0.1f * (float)c;
+        for (int c = 0; c < 3; c++)
+            h->color[3 * i + c] = 0.1f * (float)c;
     }
 }
 
@@ -153,15 +158,19 @@ TEST(hair_follow_offsets_as_tressfx) {
         const float *gp = ref.pos + 15 * g;
         /* root segment direction of the guide, in double */
         double t[3], tl = 0;
-        for (int c = 0; c < 3; c++) t[c] = (double)gp[3 + c] - gp[c], tl += t[c] * t[c];
-        for (int c = 0; c < 3; c++) t[c] /= sqrt(tl);
+        for (int c = 0; c < 3; c++)
+            t[c] = (double)gp[3 + c] - gp[c], tl += t[c] * t[c];
+        for (int c = 0; c < 3; c++)
+            t[c] /= sqrt(tl);
         for (int j = 0; j < 4; j++) {
             uint32_t s = 4 * g + j;
             CHECK(h.strand_first[s] == 5 * s);
             const float *fp = h.pos + 3 * h.strand_first[s];
             double off[3], dot = 0, r = 0;
-            for (int c = 0; c < 3; c++) off[c] = (double)fp[c] - gp[c];
-            for (int c = 0; c < 3; c++) dot += off[c] * t[c], r += off[c] * off[c];
+            for (int c = 0; c < 3; c++)
+                off[c] = (double)fp[c] - gp[c];
+            for (int c = 0; c < 3; c++)
+                dot += off[c] * t[c], r += off[c] * off[c];
             r = sqrt(r);
             if (j == 0) {
                 CHECK(r == 0); /* the guide itself comes first, unchanged */
@@ -234,7 +243,8 @@ TEST(hair_follow_on_real_guides) {
         uint32_t gs = s / 5, n = 16;
         const float *fp = h.pos + 3 * h.strand_first[s], *gp = g.pos + 3 * g.strand_first[gs];
         double off[3], r = 0;
-        for (int c = 0; c < 3; c++) off[c] = (double)fp[c] - gp[c], r += off[c] * off[c];
+        for (int c = 0; c < 3; c++)
+            off[c] = (double)fp[c] - gp[c], r += off[c] * off[c];
         /* coordinates up to ~124: float spacing 7.6e-6, so 1e-4 covers the rounding */
         if (sqrt(r) > 0.4 + 1e-4) bad++;
         for (uint32_t k = 0; k < n; k++)

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #define MAX_TESTS 2048
@@ -73,15 +74,19 @@ int main(int argc, char **argv) {
         cur_name = tests[i].name;
         cur_failed = 0;
         cur_skipped = 0;
+        struct timespec t0, t1;
+        clock_gettime(CLOCK_MONOTONIC, &t0);
         tests[i].fn();
+        clock_gettime(CLOCK_MONOTONIC, &t1);
+        double dt = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
         if (cur_failed) {
-            printf("FAIL %s (%d checks failed)\n", cur_name, cur_failed);
+            printf("FAIL %s (%d checks failed, %.2f s)\n", cur_name, cur_failed, dt);
             failed++;
         } else if (cur_skipped) {
             printf("SKIP %s: %s\n", cur_name, skip_reason);
             skipped++;
         } else {
-            printf("PASS %s\n", cur_name);
+            printf("PASS %s (%.2f s)\n", cur_name, dt);
             passed++;
         }
     }

@@ -37,8 +37,8 @@ static const ps_case typical[] = {
 };
 /* Extreme inputs. */
 static const ps_case extreme[] = {
-    {257, 129, ZEROS},    {300, 200, INTS},   {257, 129, SPIKE},   {257, 129, HUGE_VALS},
-    {64, 300, TINY_VALS}, {257, 129, CANCEL}, {1, 70000, INTS},    {8, 8, OVERFLOW},
+    {257, 129, ZEROS},    {300, 200, INTS},   {257, 129, SPIKE},     {257, 129, HUGE_VALS},
+    {64, 300, TINY_VALS}, {257, 129, CANCEL}, {1, 70000, INTS},      {8, 8, OVERFLOW},
     {1, 1, SPIKE},        {3000, 2, CANCEL},  {129, 257, TINY_VALS},
 };
 
@@ -56,16 +56,34 @@ static float *make_input(const ps_case *c, unsigned long long seed) {
     for (size_t i = 0; i < n; i++) {
         double u = urand(&s);
         switch (c->kind) {
-        case RAND01: a[i] = (float)u; break;
-        case MIXED: a[i] = (float)(2 * u - 1); break;
-        case ZEROS: a[i] = 0.0f; break;
-        case HUGE_VALS: a[i] = (float)(1e30 * (0.5 + 0.5 * u)); break; /* sums stay < FLT_MAX */
-        case TINY_VALS: a[i] = (float)(1e-30 * (0.5 + 0.5 * u)); break;
+        case RAND01:
+            a[i] = (float)u;
+            break;
+        case MIXED:
+            a[i] = (float)(2 * u - 1);
+            break;
+        case ZEROS:
+            a[i] = 0.0f;
+            break;
+        case HUGE_VALS:
+            a[i] = (float)(1e30 * (0.5 + 0.5 * u));
+            break; /* sums stay < FLT_MAX */
+        case TINY_VALS:
+            a[i] = (float)(1e-30 * (0.5 + 0.5 * u));
+            break;
         /* Large terms of both signs that mostly cancel, plus small ones lost beside them. */
-        case CANCEL: a[i] = (i % 7 == 3) ? (float)u : (float)((i & 1 ? 1e20 : -1e20) * (1 + u)); break;
-        case SPIKE: a[i] = 0.0f; break;
-        case INTS: a[i] = (float)(int)(10 * u); break; /* 0..9 */
-        case OVERFLOW: a[i] = 3e38f; break;
+        case CANCEL:
+            a[i] = (i % 7 == 3) ? (float)u : (float)((i & 1 ? 1e20 : -1e20) * (1 + u));
+            break;
+        case SPIKE:
+            a[i] = 0.0f;
+            break;
+        case INTS:
+            a[i] = (float)(int)(10 * u);
+            break; /* 0..9 */
+        case OVERFLOW:
+            a[i] = 3e38f;
+            break;
         }
     }
     if (c->kind == SPIKE) a[(c->h / 3) * c->w + c->w / 2] = 1.0f;
@@ -87,7 +105,8 @@ static void reference(const float *a, size_t w, size_t h, double *s, double *abs
 
 static int levels(size_t n) {
     int l = 1;
-    while (n > SL_SCAN_TILE) n = (n + SL_SCAN_TILE - 1) / SL_SCAN_TILE, l++;
+    while (n > SL_SCAN_TILE)
+        n = (n + SL_SCAN_TILE - 1) / SL_SCAN_TILE, l++;
     return l;
 }
 
@@ -110,7 +129,8 @@ static double check_vs_double(const char *what, const ps_case *c, const float *a
         double err = fabs((double)out[i] - s[i]);
         if (tol > 0 && err / tol > worst) worst = err / tol;
         if (!(err <= tol) && reported++ < 3)
-            sl_test_fail(__FILE__, __LINE__, "%s %zux%zu kind %d: at %zu got %.9g want %.17g, "
+            sl_test_fail(__FILE__, __LINE__,
+                         "%s %zux%zu kind %d: at %zu got %.9g want %.17g, "
                          "|err| %.3g > bound %.3g",
                          what, c->w, c->h, c->kind, i, out[i], s[i], err, tol);
     }
@@ -148,7 +168,7 @@ TEST(ps_c_extreme_vs_double) {
  * order and must equal the double reference exactly (catches indexing errors that a tolerance
  * could hide). */
 TEST(ps_c_exact_cases) {
-    const ps_case cases[] = {{300, 200, INTS}, {1, 70000, INTS}, {70000, 1, INTS},
+    const ps_case cases[] = {{300, 200, INTS},  {1, 70000, INTS},  {70000, 1, INTS},
                              {257, 129, SPIKE}, {257, 129, ZEROS}, {1, 1, SPIKE}};
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         const ps_case *c = &cases[k];
@@ -158,7 +178,8 @@ TEST(ps_c_exact_cases) {
         slc_prefix_sum_2d(a, out, c->w, c->h);
         reference(a, c->w, c->h, s, abs_s);
         size_t bad = 0;
-        for (size_t i = 0; i < n; i++) bad += (double)out[i] != s[i];
+        for (size_t i = 0; i < n; i++)
+            bad += (double)out[i] != s[i];
         CHECK_MSG(bad == 0, "%zux%zu kind %d: %zu of %zu outputs not exact", c->w, c->h, c->kind,
                   bad, n);
         free(a);
@@ -171,7 +192,8 @@ TEST(ps_c_exact_cases) {
     a[1 * 5 + 2] = 1.0f;
     slc_prefix_sum_2d(a, out, 5, 4);
     for (int y = 0; y < 4; y++)
-        for (int x = 0; x < 5; x++) CHECK_NEAR(out[y * 5 + x], (x >= 2 && y >= 1) ? 1.0 : 0.0, 0);
+        for (int x = 0; x < 5; x++)
+            CHECK_NEAR(out[y * 5 + x], (x >= 2 && y >= 1) ? 1.0 : 0.0, 0);
 }
 
 TEST(ps_c_overflow_and_in_place) {
@@ -209,12 +231,13 @@ TEST(ps_sat_box_sum) {
     const ps_case c = {37, 23, INTS};
     float *a = make_input(&c, 5), *sat = sl_malloc(37 * 23 * sizeof *sat);
     slc_prefix_sum_2d(a, sat, 37, 23);
-    const sl_uint boxes[][4] = {{0, 0, 36, 22}, {0, 0, 0, 0}, {5, 3, 17, 9}, {36, 22, 36, 22},
-                                {0, 7, 12, 7},  {9, 0, 9, 22}};
+    const sl_uint boxes[][4] = {{0, 0, 36, 22},   {0, 0, 0, 0},  {5, 3, 17, 9},
+                                {36, 22, 36, 22}, {0, 7, 12, 7}, {9, 0, 9, 22}};
     for (size_t k = 0; k < sizeof boxes / sizeof boxes[0]; k++) {
         double want = 0;
         for (sl_uint y = boxes[k][1]; y <= boxes[k][3]; y++)
-            for (sl_uint x = boxes[k][0]; x <= boxes[k][2]; x++) want += a[y * 37 + x];
+            for (sl_uint x = boxes[k][0]; x <= boxes[k][2]; x++)
+                want += a[y * 37 + x];
         /* Integers below 2^24: exact. */
         CHECK_NEAR(sl_sat_box_sum(sat, 37, boxes[k][0], boxes[k][1], boxes[k][2], boxes[k][3]),
                    want, 0);
@@ -254,7 +277,8 @@ TEST(ps_cl_matches_c_twin) {
             size_t bad = 0, first = 0;
             for (size_t i = 0; i < n && rc == 0; i++)
                 if (memcmp(&got[i], &want[i], sizeof(float)) != 0 && bad++ == 0) first = i;
-            CHECK_MSG(bad == 0, "variant %d %zux%zu kind %d: %zu of %zu differ, first at %zu: %.9g vs %.9g",
+            CHECK_MSG(bad == 0,
+                      "variant %d %zux%zu kind %d: %zu of %zu differ, first at %zu: %.9g vs %.9g",
                       (int)v, c->w, c->h, c->kind, bad, n, first, got[first], want[first]);
             /* And the kernel against double directly (implied, but independent of the twin). */
             if (rc == 0 && c->kind != OVERFLOW) check_vs_double("OpenCL", c, a, got);
@@ -279,8 +303,8 @@ TEST(ps_cl_buffers_and_errors) {
     cl_mem in = clCreateBuffer(sl_cl_context(dev.cl), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                n * sizeof(float), a, &err);
     CHECK(err == CL_SUCCESS);
-    cl_mem out = clCreateBuffer(sl_cl_context(dev.cl), CL_MEM_WRITE_ONLY, n * sizeof(float), NULL,
-                                &err);
+    cl_mem out =
+        clCreateBuffer(sl_cl_context(dev.cl), CL_MEM_WRITE_ONLY, n * sizeof(float), NULL, &err);
     CHECK(err == CL_SUCCESS);
     CHECK(slcl_prefix_sum_2d_buf(dev.cl, in, out, c.w, c.h, NULL, &e) == 0);
     /* Both variants on one more odd size, explicitly (the case table alternates them). */
@@ -290,8 +314,8 @@ TEST(ps_cl_buffers_and_errors) {
               0);
         CHECK_MSG(memcmp(got, want, n * sizeof(float)) == 0, "variant %d", v);
     }
-    CHECK(clEnqueueReadBuffer(sl_cl_queue(dev.cl), out, CL_TRUE, 0, n * sizeof(float), got, 0,
-                              NULL, NULL) == CL_SUCCESS);
+    CHECK(clEnqueueReadBuffer(sl_cl_queue(dev.cl), out, CL_TRUE, 0, n * sizeof(float), got, 0, NULL,
+                              NULL) == CL_SUCCESS);
     CHECK(memcmp(got, want, n * sizeof(float)) == 0);
     clReleaseMemObject(in);
     clReleaseMemObject(out);

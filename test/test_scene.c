@@ -56,6 +56,7 @@ TEST(scene_errors_name_file_and_key) {
     } cases[] = {
         {"{", "dir/scene.json: invalid JSON near line 1"},
         {"[]", "dir/scene.json: expected a JSON object at the top level"},
+        {"{}\n\n x", "dir/scene.json: invalid JSON near line 3"},
         {"{\"environment\":{\"file\":\"a.hdr\"}}", "dir/scene.json: hair: missing"},
         {"{\"hair\":{\"procedural\":{}},\"environment\":{\"file\":\"a.hdr\"},\"colour\":1}",
          "dir/scene.json: colour: unknown key"},

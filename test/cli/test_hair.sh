@@ -4,6 +4,7 @@
 . test/cli/lib.sh
 D="$TMP/hair"
 rm -rf "$D"; mkdir -p "$D"
+PY=python3; [ -x /usr/bin/python3 ] && PY=/usr/bin/python3   # a pyenv shim takes seconds to start
 
 expect_output info_help "usage: strandlight info FILE" "$SL" info --help
 out=$("$SL" info 2>&1); rc=$?
@@ -13,7 +14,7 @@ if [ $rc -eq 2 ]; then pass info_unknown_option_is_usage_error; else fail info_u
 
 # --- every real model: strands / points / segments from python3 parsing the headers --------
 if have_shared; then
-    python3 - "$SHARED/hair" > "$D/expected.txt" <<'EOF'
+    $PY - "$SHARED/hair" > "$D/expected.txt" <<'EOF'
 import os, struct, sys
 root = sys.argv[1]
 def hair(p):
@@ -72,12 +73,15 @@ EOF
     expect_output info_tfx3_format "format: TressFX 3 .tfx" "$SL" info "$SHARED/hair/tressfx3/bear/bear.tfx"
     expect_output info_usc_format "format: USC-HairSalon .data" "$SL" info "$SHARED/hair/harolongo.data"
     expect_output info_project_guides "guide strands: 4933 (+ 19732 follow strands)" "$SL" info "$SHARED/hair/tressfx3/ponytail/ponytail.tfxproj"
+    # .hdr/.exr go to the environment-map describer (engineer "env"'s sl_envmap_info)
+    expect_ok info_dispatches_envmap "$SL" info "$SHARED/envmaps/pmndrs/venice.hdr"
 else
     skip info_counts "no shared data at $SHARED"
 fi
+expect_error info_missing_envmap "$D/none.exr: No such file or directory" "$SL" info "$D/none.exr"
 
 # --- bad inputs -------------------------------------------------------------------------------
-python3 - "$D" <<'EOF'
+$PY - "$D" <<'EOF'
 import os, struct, sys
 d = sys.argv[1]
 def w(name, b): open(os.path.join(d, name), 'wb').write(b)
@@ -141,7 +145,7 @@ expect_ok info_ok_hair "$SL" info "$D/ok.hair"
 expect_ok info_ok_tfx "$SL" info "$D/ok.tfx"
 expect_ok info_ok_tfx4 "$SL" info "$D/ok4.tfx"
 expect_ok info_ok_data "$SL" info "$D/ok.data"
-expect_output info_ok_project "strands: 6" "$SL" info "$D/ok.tfxproj"   # 2 x (1+2) + 2 x 1
+expect_output info_ok_project "strands: 8" "$SL" info "$D/ok.tfxproj"   # 2 x (1 + 2) + 2 x (1 + 0)
 
 e() { expect_error "$1" "$D/$2: $3" "$SL" info "$D/$2"; }
 e bad_hair_truncated_header   trunc_header.hair  "truncated header (60 bytes, a .hair header has 128)"
@@ -166,8 +170,8 @@ e bad_tfx_one_vertex          one_vertex.tfx     "1 vertices per strand, need at
 e bad_tfx_nan                 nan.tfx            "strand 1 point 0: coordinate y is not finite (nan)"
 e bad_tfx_zero_length         zero_length.tfx    "strand 1 has zero length (all 4 points coincide)"
 e bad_tfx4_truncated          trunc4.tfx         "truncated: vertex positions for 2 strands x 4 vertices end at byte 288, the file has 272 bytes"
-e bad_data_truncated          trunc.data         "truncated: strand 1 declares 4 points (ends at byte 92), the file has 88 bytes"
-e bad_data_trailing_bytes     trailing.data      "1 trailing bytes after the last strand (which ends at byte 92)"
+e bad_data_truncated          trunc.data         "truncated: strand 1 declares 4 points (ends at byte 96), the file has 92 bytes"
+e bad_data_trailing_bytes     trailing.data      "1 trailing bytes after the last strand (which ends at byte 96)"
 e bad_data_absurd_count       absurd.data        "truncated: the file declares 2147483647 strands but ends after 2"
 e bad_data_absurd_points      absurd_points.data "truncated: strand 0 declares 1073741824 points"
 e bad_data_zero_strands       zero_strands.data  "strand count 0 (must be positive)"
@@ -178,9 +182,14 @@ expect_error bad_missing_file "$D/nope.hair: No such file or directory" "$SL" in
 mkdir -p "$D/adir.hair"
 expect_error bad_directory "$D/adir.hair: is a directory, expected a file" "$SL" info "$D/adir.hair"
 cp "$D/ok.hair" "$D/unreadable.hair"; chmod 000 "$D/unreadable.hair"
-if [ "$(id -u)" -eq 0 ]; then
-    skip bad_unreadable "running as root: chmod 000 does not prevent reading"
-else
+if [ "$(id -u)" -ne 0 ]; then
     expect_error bad_unreadable "$D/unreadable.hair: Permission denied" "$SL" info "$D/unreadable.hair"
+elif command -v setpriv >/dev/null 2>&1 &&
+     setpriv --reuid=65534 --regid=65534 --clear-groups "$SL" info "$D/ok.hair" >/dev/null 2>&1; then
+    # root reads anything: run as "nobody" (who can read ok.hair, so only the mode stops it)
+    expect_error bad_unreadable "$D/unreadable.hair: Permission denied" \
+        setpriv --reuid=65534 --regid=65534 --clear-groups "$SL" info "$D/unreadable.hair"
+else
+    skip bad_unreadable "running as root without a usable setpriv: chmod 000 does not prevent reading"
 fi
 chmod 600 "$D/unreadable.hair"
