@@ -115,7 +115,7 @@ int cmd_render(int argc, char **argv) {
         goto done;
     }
     if (sl_envmap_load(s->env_file, clamp_nonfinite, &map, &e)) goto done;
-    if (sl_lights_from_envmap(&map, 16, 8, 24, s->env_rotation_deg, s->env_intensity, &lights, &e))
+    if (sl_lights_from_envmap(&map, 16, 8, 16, s->env_rotation_deg, s->env_intensity, &lights, &e))
         goto done;
     float lo[3], hi[3];
     sl_hair_bounds(&h, lo, hi);

@@ -6,6 +6,8 @@
 #include "fiber_params.h"
 
 #include <math.h>
+#include <pthread.h>
+#include <unistd.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -58,12 +60,12 @@ static void fiber_angles(const double u[3], const double v[3], const double w[3]
 }
 
 static void shade_vertices(const sl_material *mat, const sl_hair *h, const sl_lights *L,
-                           const sl_camera *cam, float *col) {
+                           const sl_camera *cam, uint32_t s_begin, uint32_t s_end, float *col) {
     sl_fiber_params fp[3];
     for (int c = 0; c < 3; c++) sl_material_to_fiber(mat, c, &fp[c]);
     float out[SL_DEON_MAX_ORDERS + 3];
     int nout = mat->model == SL_MODEL_DEON ? mat->orders + 3 : 4;
-    for (uint32_t s = 0; s < h->num_strands; s++) {
+    for (uint32_t s = s_begin; s < s_end; s++) {
         uint32_t a = h->strand_first[s], b = h->strand_first[s + 1];
         for (uint32_t i = a; i < b; i++) {
             double u[3], v[3], w[3];
@@ -109,6 +111,43 @@ static void shade_vertices(const sl_material *mat, const sl_hair *h, const sl_li
             for (int c = 0; c < 3; c++) col[3 * i + c] = (float)acc[c];
         }
     }
+}
+
+/* Shading is independent per vertex: split the strands over threads (deterministic, each thread
+ * writes its own vertices). */
+typedef struct shade_job {
+    const sl_material *mat;
+    const sl_hair *h;
+    const sl_lights *L;
+    const sl_camera *cam;
+    uint32_t s_begin, s_end;
+    float *col;
+} shade_job;
+
+static void *shade_thread(void *arg) {
+    shade_job *j = arg;
+    shade_vertices(j->mat, j->h, j->L, j->cam, j->s_begin, j->s_end, j->col);
+    return NULL;
+}
+
+static void shade_parallel(const sl_material *mat, const sl_hair *h, const sl_lights *L,
+                           const sl_camera *cam, float *col) {
+    enum { MAX_THREADS = 16 };
+    long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
+    int nt = ncpu < 1 ? 1 : (ncpu > MAX_THREADS ? MAX_THREADS : (int)ncpu);
+    if (h->num_strands < 64) nt = 1;
+    pthread_t tid[MAX_THREADS];
+    shade_job job[MAX_THREADS];
+    int started[MAX_THREADS] = {0};
+    for (int t = 0; t < nt; t++) {
+        job[t] = (shade_job){mat, h, L, cam, (uint32_t)((uint64_t)h->num_strands * t / nt),
+                             (uint32_t)((uint64_t)h->num_strands * (t + 1) / nt), col};
+        started[t] = t > 0 && pthread_create(&tid[t], NULL, shade_thread, &job[t]) == 0;
+    }
+    for (int t = 0; t < nt; t++)
+        if (!started[t]) shade_thread(&job[t]); /* thread 0, or a thread that failed to start */
+    for (int t = 1; t < nt; t++)
+        if (started[t]) pthread_join(tid[t], NULL);
 }
 
 /* Weighted blended OIT accumulation (McGuire & Bavoil 2013): order-independent, so the
@@ -165,7 +204,7 @@ int sl_render_preview(const sl_material *mat, const sl_hair *h, const sl_lights 
                        mat->orders, SL_DEON_MAX_ORDERS);
     sl_frame_alloc(f, cam->width, cam->height);
     float *col = sl_malloc((size_t)h->num_points * 3 * sizeof(float));
-    shade_vertices(mat, h, lights, cam, col);
+    shade_parallel(mat, h, lights, cam, col);
     size_t n = (size_t)f->width * f->height;
     accum acc = {sl_calloc(3 * n, sizeof(float)), sl_calloc(n, sizeof(float)),
                  sl_malloc(n * sizeof(float))};

@@ -9,14 +9,16 @@ rm -rf "$BUILD/test-tmp"; mkdir -p "$TMP"
 log="$BUILD/test-log.txt"
 : > "$log"
 start=$(date +%s)
-echo "== unit tests ($BUILD/unit_tests)"
+t0=$(date +%s)
 "$BUILD/unit_tests" 2>&1 | tee -a "$log" | grep -v '^PASS'
 rc=${PIPESTATUS[0]}
 # A crash (signal) or a non-zero exit without a FAIL line is itself a failure.
 if [ "$rc" -ne 0 ] && ! grep -q '^FAIL' "$log"; then echo "FAIL unit_tests: exit status $rc" | tee -a "$log"; fi
+echo "== unit tests $BUILD/unit_tests ($(( $(date +%s) - t0 )) s)"
 for t in test/cli/test_*.sh; do
-    echo "== $t"
+    t0=$(date +%s)
     bash "$t" 2>&1 | tee -a "$log" | grep -v '^PASS'
+    echo "== $t ($(( $(date +%s) - t0 )) s)"
 done
 passed=$(grep -c '^PASS' "$log")
 failed=$(grep -c '^FAIL' "$log")
