@@ -9,6 +9,7 @@
 #include "fiber_eval.h"
 #include "material.h"
 #include "scene.h"
+#include "shadow_eval.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -27,8 +28,17 @@ static void help(void) {
            "              (model deon: f_0,...,f_<orders>,f_rest,f)\n"
            "  deon-mp     v,theta_i,theta_o -> M,log_M   (d'Eon Eq. 7; no material; v > 0)\n"
            "  furnace     theta_o,phi_o -> albedo         (integral of f over the sphere)\n"
-           "  srbf, transmittance, forward-transmittance, ms-material: reserved, not implemented\n"
-           "              yet (exit 1)\n"
+           "  srbf        theta_o,phi_o,theta_j,phi_j,lambda -> I_R,I_TT,I_TRT,I\n"
+           "              (response to one SRBF light; model deon: I_0,...,I_<orders>,I_rest,I;\n"
+           "              docs/srbf.md)\n"
+           "  ms-material theta_d -> a_f,a_b,alpha_f,alpha_b,beta_f,beta_b,A_b,Delta_b,sigma_b\n"
+           "              (dual-scattering terms, Zinke 2008; marschner only; backends\n"
+           "              reference and c; docs/dual.md)\n"
+           "  transmittance x,y,z,lobe -> T   (with --scene: effective transmittance of the\n"
+           "              scene's hair toward lobe `lobe` of environment.lobes at world point\n"
+           "              x,y,z; reference: ray-traced fibers, Monte Carlo over the lobe;\n"
+           "              c/opencl: deep opacity maps; docs/shadow.md)\n"
+           "  forward-transmittance: reserved, not implemented yet (exit 1)\n"
            "\n"
            "options:\n"
            "  --material FILE.json  material (numerics.md sec. 2); default: the defaults there\n"
@@ -40,7 +50,11 @@ static void help(void) {
            "                        device exists)\n"
            "  --device SPEC         OpenCL device for --backend opencl: opencl (default: any,\n"
            "                        GPU preferred), gpu, pocl, P:D or N; implies --backend opencl\n"
-           "  --method M            exact|xu|fast, for srbf (accepted and ignored by the others)\n"
+           "  --method M            exact|xu|fast, for srbf (accepted and ignored by the others):\n"
+           "                        exact needs --backend reference (its default there); xu and\n"
+           "                        fast (the default) run on c and opencl\n"
+           "  --segments M          srbf --method xu: segments of the piecewise-linear quadrature\n"
+           "                        (1..8, default 4; Xu 2011 Sec. 4.2.2)\n"
            "\n"
            "CSV: a header line naming the columns is required; columns in any order; other\n"
            "columns are copied through as text; one output row per input row, in order. Angles:\n"
@@ -56,6 +70,8 @@ typedef struct eval_opts {
     sl_eval_quantity q;
     sl_eval_backend backend;
     const char *material, *scene, *device;
+    sl_eval_method method; /* srbf */
+    int segments;          /* srbf --method xu; 0: default */
 } eval_opts;
 
 /* Parses the command line; returns -1 to continue, else the exit code. */
@@ -78,6 +94,13 @@ static int parse_args(int argc, char **argv, eval_opts *o) {
             method = v;
         else if (cli_opt(argc, argv, &i, "--device", &v, &missing))
             o->device = v;
+        else if (cli_opt(argc, argv, &i, "--segments", &v, &missing)) {
+            char *end;
+            long s = strtol(v, &end, 10);
+            if (*end || end == v || s < 1 || s > 8)
+                return cli_usage_error("eval", "--segments: expected an integer 1..8, got '%s'", v);
+            o->segments = (int)s;
+        }
         else if (argv[i][0] == '-' && argv[i][1])
             return cli_usage_error("eval", "unknown option '%s'", argv[i]);
         else if (!quantity)
@@ -98,8 +121,10 @@ static int parse_args(int argc, char **argv, eval_opts *o) {
     if (!backend) o->backend = o->device ? SL_EVAL_OPENCL : SL_EVAL_C;
     if (o->device && o->backend != SL_EVAL_OPENCL)
         return cli_usage_error("eval", "--device applies to --backend opencl only");
-    if (method && strcmp(method, "exact") && strcmp(method, "xu") && strcmp(method, "fast"))
+    if (method && sl_eval_method_from_name(method, &o->method))
         return cli_usage_error("eval", "unknown method '%s' (expected exact, xu or fast)", method);
+    const char *why = sl_eval_method_unsupported(o->q, o->backend, o->method);
+    if (why) return cli_usage_error("eval", "%s", why);
     if (o->material && o->scene)
         return cli_usage_error("eval", "give --material or --scene, not both");
     if (!sl_eval_quantity_uses_material(o->q) && !sl_eval_quantity_needs_scene(o->q) &&
@@ -179,8 +204,17 @@ static int evaluate(const eval_opts *o, const sl_csv *csv, const sl_material *m,
     size_t n = csv->nrows, nout = sl_eval_num_outputs(o->q, m);
     int nch = sl_eval_num_channels(o->q, m);
     double *y = sl_calloc((n ? n : 1) * nout * (size_t)nch, sizeof *y);
+    if (o->q == SL_EVAL_TRANSMITTANCE) { /* needs the scene's hair and lobes: shadow_eval.h */
+        if (!o->scene ||
+            sl_shadow_eval_transmittance(o->scene, o->backend, cl, n, x, csv->line_no, y, e)) {
+            if (!o->scene) sl_fail(e, "eval transmittance needs --scene S.json");
+            free(y);
+            return -1;
+        }
+    } else
     for (int ch = 0; ch < nch; ch++)
-        if (sl_eval_run(o->q, o->backend, cl, m, ch, n, x, y + (size_t)ch * n * nout, e)) {
+        if (sl_eval_run_method(o->q, o->backend, o->method, o->segments, cl, m, ch, n, x,
+                               y + (size_t)ch * n * nout, e)) {
             free(y);
             return -1;
         }

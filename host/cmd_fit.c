@@ -1,6 +1,7 @@
 /* cmd_fit.c: `strandlight fit`: SRBF lobes for an environment map (envfit.h), written as the
  * lobes JSON of numerics.md sec. 4 with a "fit" record (map hash, settings, errors, time). */
 #include "cli.h"
+#include "env_lighting.h"
 #include "envfit.h"
 
 #include <cjson/cJSON.h>
@@ -10,68 +11,30 @@
 #include <string.h>
 
 static void usage(FILE *fp) {
-    fprintf(fp,
-            "usage: strandlight fit MAP.exr|MAP.hdr --lobes N|auto -o LOBES.json [options]\n\n"
-            "Fits N spherical Gaussians (SRBF lobes, numerics.md sec. 4) to an environment map:\n"
-            "greedy start on a coarse level, then bounded Levenberg-Marquardt over directions,\n"
-            "bandwidths and non-negative rgb weights, coarse to fine on a solid-angle-weighted\n"
-            "pyramid. Prints and records the solid-angle-weighted relative L2 error of the\n"
-            "radiance (rel_l2) and of the map seen through a fiber-like lobe (lobe_conv_rel_l2).\n\n"
-            "options:\n"
-            "  --lobes N|auto          number of lobes (1..%d), or grow until --target-error\n"
-            "  --target-error E        auto mode: stop when rel_l2 <= E (default 0.1)\n"
-            "  --max-lobes M           auto mode: at most M lobes (default 256)\n"
-            "  -o, --output FILE       lobes JSON to write (atomically)\n"
-            "  --preview FILE.png      original | reconstruction | |error| side by side\n"
-            "  --exposure STOPS        preview exposure (default 0)\n"
-            "  --lambda-min L          narrowest lobe (default: one pixel, pi / height)\n"
-            "  --lambda-max L          broadest lobe (default 1.0)\n"
-            "  --effort X              iteration budget multiplier (default 1)\n"
-            "  --threads T             worker threads (default 2; results do not depend on it)\n"
-            "  --conv-lambda-deg D     width of the lobe for lobe_conv_rel_l2 (default 10)\n"
-            "  --clamp-nonfinite       replace NaN/Inf pixels by 0 instead of failing\n"
-            "  -v, --verbose           per-level iterations, errors and times on stderr\n"
-            "  -q, --quiet             no summary line on stdout\n",
-            SL_LOBES_MAX);
-}
-
-/* The "fit" record: everything needed to tell whether lobes are stale and how good they are. */
-static char *fit_record(const char *map_path, const sl_envmap *m, const sl_envfit_settings *s,
-                        int clamp, const sl_envfit_report *r, int count) {
-    cJSON *fit = cJSON_CreateObject();
-    char hash[32];
-    snprintf(hash, sizeof hash, "%016llx", (unsigned long long)m->hash);
-    cJSON_AddStringToObject(fit, "map_hash", hash);
-    cJSON_AddStringToObject(fit, "map", map_path);
-    cJSON *size = cJSON_AddArrayToObject(fit, "map_size");
-    cJSON_AddItemToArray(size, cJSON_CreateNumber(m->width));
-    cJSON_AddItemToArray(size, cJSON_CreateNumber(m->height));
-    cJSON *st = cJSON_AddObjectToObject(fit, "settings");
-    if (s->lobes > 0)
-        cJSON_AddNumberToObject(st, "lobes", s->lobes);
-    else {
-        cJSON_AddStringToObject(st, "lobes", "auto");
-        cJSON_AddNumberToObject(st, "target_error", s->target_error);
-        cJSON_AddNumberToObject(st, "max_lobes", s->max_lobes);
-    }
-    cJSON_AddNumberToObject(st, "lambda_min", s->lambda_min > 0 ? s->lambda_min : 0.25 * M_PI / m->height);
-    cJSON_AddNumberToObject(st, "lambda_max", s->lambda_max);
-    cJSON_AddNumberToObject(st, "effort", s->effort);
-    cJSON_AddNumberToObject(st, "conv_lambda_deg", s->conv_lambda * 180 / M_PI);
-    cJSON_AddBoolToObject(st, "clamp_nonfinite", clamp);
-    cJSON_AddStringToObject(fit, "method",
-                            "greedy matching pursuit + coarse-to-fine bounded Levenberg-Marquardt");
-    cJSON_AddNumberToObject(fit, "lobes", count);
-    cJSON_AddNumberToObject(fit, "rel_l2", r->rel_l2);
-    cJSON_AddNumberToObject(fit, "lobe_conv_rel_l2", r->lobe_conv_rel_l2);
-    cJSON_AddNumberToObject(fit, "time_s", round(r->time_s * 1000) / 1000);
-    cJSON_AddNumberToObject(fit, "iterations", r->iterations);
-    cJSON_AddNumberToObject(fit, "levels", r->levels);
-    cJSON_AddNumberToObject(fit, "sun_lobes", r->suns);
-    cJSON_AddStringToObject(fit, "version", SL_VERSION);
-    char *txt = cJSON_PrintUnformatted(fit);
-    cJSON_Delete(fit);
-    return txt;
+    fprintf(
+        fp,
+        "usage: strandlight fit MAP.exr|MAP.hdr --lobes N|auto -o LOBES.json [options]\n\n"
+        "Fits N spherical Gaussians (SRBF lobes, numerics.md sec. 4) to an environment map:\n"
+        "greedy start on a coarse level, then bounded Levenberg-Marquardt over directions,\n"
+        "bandwidths and non-negative rgb weights, coarse to fine on a solid-angle-weighted\n"
+        "pyramid. Prints and records the solid-angle-weighted relative L2 error of the\n"
+        "radiance (rel_l2) and of the map seen through a fiber-like lobe (lobe_conv_rel_l2).\n\n"
+        "options:\n"
+        "  --lobes N|auto          number of lobes (1..%d), or grow until --target-error\n"
+        "  --target-error E        auto mode: stop when rel_l2 <= E (default 0.1)\n"
+        "  --max-lobes M           auto mode: at most M lobes (default 256)\n"
+        "  -o, --output FILE       lobes JSON to write (atomically)\n"
+        "  --preview FILE.png      original | reconstruction | |error| side by side\n"
+        "  --exposure STOPS        preview exposure (default 0)\n"
+        "  --lambda-min L          narrowest lobe (default: one pixel, pi / height)\n"
+        "  --lambda-max L          broadest lobe (default 1.0)\n"
+        "  --effort X              iteration budget multiplier (default 1)\n"
+        "  --threads T             worker threads (default 2; results do not depend on it)\n"
+        "  --conv-lambda-deg D     width of the lobe for lobe_conv_rel_l2 (default 10)\n"
+        "  --clamp-nonfinite       replace NaN/Inf pixels by 0 instead of failing\n"
+        "  -v, --verbose           per-level iterations, errors and times on stderr\n"
+        "  -q, --quiet             no summary line on stdout\n",
+        SL_LOBES_MAX);
 }
 
 int cmd_fit(int argc, char **argv) {
@@ -119,18 +82,21 @@ int cmd_fit(int argc, char **argv) {
             s.lambda_min = dv;
         } else if (cli_opt(argc, argv, &i, "--lambda-max", &v, &missing)) {
             if (missing || cli_double("fit", "--lambda-max", v, &dv)) return 2;
-            if (!(dv > 0) || dv > 100) return cli_usage_error("fit", "--lambda-max: must be in (0, 100]");
+            if (!(dv > 0) || dv > 100)
+                return cli_usage_error("fit", "--lambda-max: must be in (0, 100]");
             s.lambda_max = dv;
         } else if (cli_opt(argc, argv, &i, "--effort", &v, &missing)) {
             if (missing || cli_double("fit", "--effort", v, &dv)) return 2;
-            if (!(dv > 0) || dv > 10000) return cli_usage_error("fit", "--effort: must be in (0, 10000]");
+            if (!(dv > 0) || dv > 10000)
+                return cli_usage_error("fit", "--effort: must be in (0, 10000]");
             s.effort = dv;
         } else if (cli_opt(argc, argv, &i, "--threads", &v, &missing)) {
             if (missing || cli_int("fit", "--threads", v, 1, 16, &lv)) return 2;
             s.threads = (int)lv;
         } else if (cli_opt(argc, argv, &i, "--conv-lambda-deg", &v, &missing)) {
             if (missing || cli_double("fit", "--conv-lambda-deg", v, &dv)) return 2;
-            if (!(dv > 0) || dv > 180) return cli_usage_error("fit", "--conv-lambda-deg: must be in (0, 180]");
+            if (!(dv > 0) || dv > 180)
+                return cli_usage_error("fit", "--conv-lambda-deg: must be in (0, 180]");
             s.conv_lambda = dv * M_PI / 180;
         } else if (strcmp(a, "--clamp-nonfinite") == 0) {
             clamp = 1;
@@ -163,7 +129,7 @@ int cmd_fit(int argc, char **argv) {
     sl_envfit_report rep;
     int rc = 1;
     if (sl_envfit(&map, &s, &lobes, &rep, &e)) goto fail;
-    lobes.fit_json = fit_record(map_path, &map, &s, clamp, &rep, lobes.count);
+    lobes.fit_json = sl_envfit_record(map_path, &map, &s, clamp, &rep, lobes.count);
     if (sl_lobes_save(out_path, &lobes, &e)) goto fail_lobes;
     if (preview && sl_envfit_preview(preview, &map, lobes.lobe, lobes.count, exposure, &e))
         goto fail_lobes;

@@ -4,7 +4,7 @@
 #include "camera.h"
 #include "cli.h"
 #include "clrt.h"
-#include "envmap.h"
+#include "env_lighting.h"
 #include "hair.h"
 #include "image_write.h"
 #include "lights.h"
@@ -28,7 +28,8 @@ static const char *usage_text =
     "  --clamp-nonfinite   replace NaN/Inf pixels of the environment map by 0 (else an error)\n"
     "\n"
     "NOTE: this version shades with a PLACEHOLDER renderer: the real fiber scattering function\n"
-    "against directional lights cut from the map, without self-shadowing or multiple scattering.\n";
+    "against the SRBF lobes taken as directional lights, without self-shadowing or multiple\n"
+    "scattering. With only environment.file, quality.lobes lobes are fitted and cached.\n";
 
 static int load_hair(const sl_scene *s, sl_hair *h, sl_err *e) {
     if (s->hair_procedural) {
@@ -37,7 +38,9 @@ static int load_hair(const sl_scene *s, sl_hair *h, sl_err *e) {
     } else {
         if (sl_hair_load(s->hair_file, h, e)) return -1;
         if (s->up_z) sl_hair_z_up_to_y_up(h);
-        if (s->has_follow && s->follow_per_guide > 0) {
+        /* tfx_follow densifies TressFX guides; a .tfxproj already brought its own followers. */
+        if (s->has_follow && s->follow_per_guide > 0 && !h->follow_added &&
+            strncmp(h->format, "TressFX", 7) == 0) {
             sl_hair_follow f = {s->follow_per_guide, (float)s->follow_root_radius,
                                 (float)s->follow_tip_spread, 1};
             if (sl_hair_add_follow(h, &f, e)) return -1;
@@ -99,7 +102,7 @@ int cmd_render(int argc, char **argv) {
     sl_err e = {{0}};
     sl_scene *s = sl_malloc(sizeof *s);
     sl_hair h = {0};
-    sl_envmap map = {0};
+    sl_lobes lobes = {0};
     sl_lights lights = {0};
     sl_frame frame = {0};
     sl_device dev = {0};
@@ -110,13 +113,9 @@ int cmd_render(int argc, char **argv) {
     if (height) s->height = (int)height;
     if (sl_device_open(device, &dev, &e)) goto done;
     if (load_hair(s, &h, &e)) goto done;
-    if (!s->env_file[0]) {
-        sl_fail(&e, "%s: environment: the placeholder renderer needs environment.file", scene_path);
-        goto done;
-    }
-    if (sl_envmap_load(s->env_file, clamp_nonfinite, &map, &e)) goto done;
-    if (sl_lights_from_envmap(&map, 16, 8, 16, s->env_rotation_deg, s->env_intensity, &lights, &e))
-        goto done;
+    if (sl_scene_lobes(s, clamp_nonfinite, &lobes, &e)) goto done;
+    sl_lobes_transform(&lobes, s->env_rotation_deg, s->env_intensity);
+    if (sl_lights_from_lobes(&lobes, &lights, &e)) goto done;
     float lo[3], hi[3];
     sl_hair_bounds(&h, lo, hi);
     double target[3];
@@ -124,8 +123,8 @@ int cmd_render(int argc, char **argv) {
     sl_camera cam;
     sl_camera_setup(&cam, s->has_eye ? s->eye : NULL, target, s->up, s->fov_deg, s->width,
                     s->height, lo, hi);
-    sl_warn("render: PLACEHOLDER shading (fiber function x %d directional lights from the map, no "
-            "shadows, no multiple scattering); %s is used for nothing yet",
+    sl_warn("render: PLACEHOLDER shading (fiber function x %d SRBF lobes taken as directional "
+            "lights, no shadows, no multiple scattering); %s is used for nothing yet",
             lights.count, dev.name);
     if (sl_render_preview(&s->material, &h, &lights, &cam, &frame, &e)) goto done;
     const char *exr_path = exr ? exr : (s->out_exr[0] ? s->out_exr : "out/frame.exr");
@@ -139,7 +138,7 @@ done:
     if (rc) fprintf(stderr, "strandlight: %s\n", e.msg);
     sl_frame_free(&frame);
     sl_lights_free(&lights);
-    sl_envmap_free(&map);
+    sl_lobes_free(&lobes);
     sl_hair_free(&h);
     sl_device_close(&dev);
     free(s);

@@ -44,7 +44,6 @@ static double level_work(const fit_state *st, int lv) {
     return (double)st->L[lv].w * st->L[lv].h * level_budget(st->nlev - 1 - lv);
 }
 
-
 static double lobe_power(const sl_lobe *l) {
     return (l->rgb[0] + l->rgb[1] + l->rgb[2]) * sl_lobe_integral(l->lambda);
 }
@@ -53,8 +52,8 @@ static double lobe_power(const sl_lobe *l) {
  * the residual; the swap is kept if the refined objective drops. Two kinds: merging the two
  * lobes that overlap most (the greedy start may spend two lobes on one sun, which then settle on
  * either side of it, a local minimum no gradient step leaves), and dropping the weakest lobe. */
-static double try_swap(efl_eval *ev, const efl_dict *d, sl_lobe *lobes, int n,
-                       const efl_lm_opts *o, double F, int merge, int *iters) {
+static double try_swap(efl_eval *ev, const efl_dict *d, sl_lobe *lobes, int n, const efl_lm_opts *o,
+                       double F, int merge, int *iters) {
     if (n < 2) return -1;
     sl_lobe *save = sl_malloc(sizeof *save * (size_t)n);
     memcpy(save, lobes, sizeof *save * (size_t)n);
@@ -81,13 +80,16 @@ static double try_swap(efl_eval *ev, const efl_dict *d, sl_lobe *lobes, int n,
         /* Merged lobe: power-weighted direction, the wider width, the summed power. */
         sl_lobe *A = &lobes[bj], *B = &lobes[bk];
         double pa = lobe_power(A), pb = lobe_power(B), m[3];
-        for (int c = 0; c < 3; c++) m[c] = pa * A->dir[c] + pb * B->dir[c];
+        for (int c = 0; c < 3; c++)
+            m[c] = pa * A->dir[c] + pb * B->dir[c];
         double nm = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
         if (nm > 0)
-            for (int c = 0; c < 3; c++) A->dir[c] = m[c] / nm;
+            for (int c = 0; c < 3; c++)
+                A->dir[c] = m[c] / nm;
         double lam = fmax(A->lambda, B->lambda), ia = sl_lobe_integral(A->lambda),
                ib = sl_lobe_integral(B->lambda), im = sl_lobe_integral(lam);
-        for (int c = 0; c < 3; c++) A->rgb[c] = (A->rgb[c] * ia + B->rgb[c] * ib) / im;
+        for (int c = 0; c < 3; c++)
+            A->rgb[c] = (A->rgb[c] * ia + B->rgb[c] * ib) / im;
         A->lambda = lam;
         k = bk;
     } else {
@@ -97,7 +99,10 @@ static double try_swap(efl_eval *ev, const efl_dict *d, sl_lobe *lobes, int n,
     lobes[k] = lobes[n - 1];
     efl_greedy(d, lobes, n - 1, n);
     int it = 0;
-    double F2 = efl_lm(ev, lobes, n, o, &it, NULL, 0, 0);
+    /* A short refinement decides; the level's next pass (or level) polishes the winner. */
+    efl_lm_opts os = *o;
+    if (os.max_iter > 15) os.max_iter = 15;
+    double F2 = efl_lm(ev, lobes, n, &os, &it, NULL, 0, 0);
     *iters += it;
     if (F2 < F * (1 - 1e-6)) {
         free(save);
@@ -115,7 +120,10 @@ static void fit_levels(fit_state *st, const efl_dict *d, sl_lobe *lobes, int n) 
     for (int lv = top; lv >= 0; lv--) {
         const efl_level *L = &st->L[lv];
         efl_lm_opts o;
-        o.lam_lo = st->lam_min;
+        /* Coarse levels may not resolve what they cannot see: lobes there are at least a pixel
+         * wide (a lobe tuned to a coarse pixel's footprint transfers badly to the next level);
+         * the bound relaxes level by level down to lambda_min on the map itself. */
+        o.lam_lo = lv > 0 ? fmin(fmax(st->lam_min, M_PI / L->h), st->lam_max) : st->lam_min;
         o.lam_hi = st->lam_max;
         o.max_iter = (int)ceil(level_budget(top - lv) * s->effort);
         o.rel_tol = 1e-5 / s->effort;
@@ -124,10 +132,11 @@ static void fit_levels(fit_state *st, const efl_dict *d, sl_lobe *lobes, int n) 
         double p0 = st->work_done, p1 = p0 + w;
         int it = 0;
         double tl = sl_now();
-        /* Lobes broader than EFL_FREEZE pixels were resolved on the coarser levels: on this
-         * level they only contribute a fixed background, which saves most of the fine-level
-         * work (effort scales the threshold, so long runs refine everything). */
-        double freeze = EFL_FREEZE * s->effort * M_PI / L->h;
+        /* On the big levels, lobes broader than EFL_FREEZE pixels were resolved on the coarser
+         * levels: there they only contribute a fixed background, which saves most of the
+         * fine-level work (effort scales the threshold, so long runs refine everything). */
+        double freeze =
+            (double)L->w * L->h >= (1 << 17) ? EFL_FREEZE * s->effort * M_PI / L->h : INFINITY;
         int na = 0;
         for (int j = 0; j < n; j++)
             if (lobes[j].lambda < freeze) na++;
@@ -146,7 +155,8 @@ static void fit_levels(fit_state *st, const efl_dict *d, sl_lobe *lobes, int n) 
             size_t np = (size_t)L->w * L->h * 3;
             bg = sl_malloc(sizeof(double) * np);
             efl_objective(&ev, fro, n - na);
-            for (size_t i = 0; i < np; i++) bg[i] = st->res[i] + L->rgb[i];
+            for (size_t i = 0; i < np; i++)
+                bg[i] = st->res[i] + L->rgb[i];
             ev.bg = bg;
         }
         double F = na ? efl_lm(&ev, act, na, &o, &it, s->progress ? &st->prog : NULL, p0, p1)
@@ -154,19 +164,22 @@ static void fit_levels(fit_state *st, const efl_dict *d, sl_lobe *lobes, int n) 
         st->iters += it;
         if (act != lobes) {
             int ia = 0, ib = 0;
-            for (int j = 0; j < n; j++) lobes[j] = lobes[j].lambda < freeze ? act[ia++] : fro[ib++];
+            for (int j = 0; j < n; j++)
+                lobes[j] = lobes[j].lambda < freeze ? act[ia++] : fro[ib++];
             free(act);
             free(fro);
             free(bg);
             ev.bg = NULL;
         }
         if (s->verbose)
-            fprintf(stderr, "fit: level %d (%dx%d): %d of %d lobes free, %d iterations, rel_l2 %.5g, %.3f s\n",
-                    lv, L->w, L->h, na, n, it, L->energy > 0 ? sqrt(2 * F / L->energy) : 0.0,
-                    sl_now() - tl);
+            fprintf(
+                stderr,
+                "fit: level %d (%dx%d): %d of %d lobes free, %d iterations, rel_l2 %.5g, %.3f s\n",
+                lv, L->w, L->h, na, n, it, L->energy > 0 ? sqrt(2 * F / L->energy) : 0.0,
+                sl_now() - tl);
         /* Swaps are worth trying while the level is cheap; effort buys more of them. */
         if (lv >= top - 1) {
-            int rounds = (int)ceil(3 * s->effort);
+            int rounds = (int)ceil(2 * s->effort);
             for (int merge = 1; merge >= 0; merge--)
                 for (int r = 0; r < rounds; r++) {
                     double F2 = try_swap(&ev, d, lobes, n, &o, F, merge, &st->iters);
@@ -178,7 +191,6 @@ static void fit_levels(fit_state *st, const efl_dict *d, sl_lobe *lobes, int n) 
         if (s->progress) sl_progress_update(&st->prog, p1);
     }
 }
-
 
 static int cmp_power(const void *a, const void *b) {
     double pa = lobe_power(a), pb = lobe_power(b);
@@ -192,8 +204,10 @@ int sl_envfit(const sl_envmap *map, const sl_envfit_settings *s, sl_lobes *out,
     out->rel_l2 = out->lobe_conv_rel_l2 = -1;
     if (!map || map->width < 2 || map->height < 1 || !map->rgb)
         return sl_fail(e, "fit: the environment map is empty");
-    if (s->lobes < 0 || s->lobes > SL_LOBES_MAX) return sl_fail(e, "fit: bad lobe count %d", s->lobes);
-    if (s->lobes == 0 && (s->max_lobes < 1 || s->max_lobes > SL_LOBES_MAX || !(s->target_error > 0)))
+    if (s->lobes < 0 || s->lobes > SL_LOBES_MAX)
+        return sl_fail(e, "fit: bad lobe count %d", s->lobes);
+    if (s->lobes == 0 &&
+        (s->max_lobes < 1 || s->max_lobes > SL_LOBES_MAX || !(s->target_error > 0)))
         return sl_fail(e, "fit: auto mode needs max_lobes >= 1 and target_error > 0");
     if (!(s->lambda_max > 0) || !(s->lambda_min >= 0) || !(s->effort > 0) || !(s->conv_lambda > 0))
         return sl_fail(e, "fit: lambda bounds, effort and conv_lambda must be positive");
@@ -222,7 +236,8 @@ int sl_envfit(const sl_envmap *map, const sl_envfit_settings *s, sl_lobes *out,
     free(sky);
     st.res = sl_malloc(sizeof(double) * np);
     int top = st.nlev - 1;
-    for (int k = 0; k < st.nlev; k++) st.work_total += level_work(&st, k);
+    for (int k = 0; k < st.nlev; k++)
+        st.work_total += level_work(&st, k);
     efl_dict d;
     double dlo = fmin(fmax(st.lam_min, M_PI / st.L[top].h), st.lam_max);
     efl_dict_build(&d, &st.L[top], dlo, st.lam_max, s->threads);
@@ -233,7 +248,27 @@ int sl_envfit(const sl_envmap *map, const sl_envfit_settings *s, sl_lobes *out,
     int cap = cap_all - ns;
     int n = s->lobes > 0 ? cap : (cap < 8 ? cap : 8);
     if (s->progress) sl_progress_begin(&st.prog, "fit");
-    efl_greedy(&d, lobes, 0, n);
+    /* Continuation in the number of lobes on the coarsest level: 10, 20, 40, ... lobes, each
+     * round refined before the next adds lobes on its residual. Large N then starts from the
+     * solution for N/2 instead of one long greedy pass (with 80 lobes at once LM stalled above
+     * the 40-lobe error on blender_exr/studio.exr). */
+    {
+        efl_eval ev = {&st.L[top], s->threads, EFL_CUT, st.res, NULL};
+        efl_lm_opts o = {(int)ceil(level_budget(0) * s->effort), 1e-5 / s->effort,
+                         top > 0 ? fmin(fmax(st.lam_min, M_PI / st.L[top].h), st.lam_max)
+                                 : st.lam_min,
+                         st.lam_max};
+        int m = n < 10 ? n : 10;
+        efl_greedy(&d, lobes, 0, m);
+        while (m < n) {
+            int it = 0;
+            efl_lm(&ev, lobes, m, &o, &it, NULL, 0, 0);
+            st.iters += it;
+            int m2 = 2 * m < n ? 2 * m : n;
+            efl_greedy(&d, lobes, m, m2);
+            m = m2;
+        }
+    }
     fit_levels(&st, &d, lobes, n);
     double rel = sl_envfit_rel_l2(map, all, ns + n, s->threads);
     while (s->lobes == 0 && rel > s->target_error && n < cap) {
@@ -263,7 +298,8 @@ int sl_envfit(const sl_envmap *map, const sl_envfit_settings *s, sl_lobes *out,
     out->lobe_conv_rel_l2 = rep->lobe_conv_rel_l2;
     efl_dict_free(&d);
     free(st.res);
-    for (int k = 0; k < st.nlev; k++) efl_level_free(&st.L[k]);
+    for (int k = 0; k < st.nlev; k++)
+        efl_level_free(&st.L[k]);
     free(st.L);
     return 0;
 }

@@ -21,16 +21,16 @@
 #include "lobes_json.h"
 
 typedef struct sl_envfit_settings {
-    int lobes;             /* N >= 1; 0 = auto (grow until target_error is met) */
-    double target_error;   /* auto mode: stop when rel_l2 <= target_error */
-    int max_lobes;         /* auto mode: upper bound on N */
-    double lambda_min;     /* 0 = the finest level's pixel spacing (pi / height) */
-    double lambda_max;     /* broadest lobe allowed */
-    double effort;         /* multiplies iteration budgets, divides tolerances (1 = default) */
-    int threads;           /* worker threads (results do not depend on it) */
-    double conv_lambda;    /* lambda of the fiber-like lobe for the convolved error (radians) */
-    int progress;          /* show a progress bar (sl_progress_*) */
-    int verbose;           /* per-level figures on stderr */
+    int lobes;           /* N >= 1; 0 = auto (grow until target_error is met) */
+    double target_error; /* auto mode: stop when rel_l2 <= target_error */
+    int max_lobes;       /* auto mode: upper bound on N */
+    double lambda_min;   /* 0 = the finest level's pixel spacing (pi / height) */
+    double lambda_max;   /* broadest lobe allowed */
+    double effort;       /* multiplies iteration budgets, divides tolerances (1 = default) */
+    int threads;         /* worker threads (results do not depend on it) */
+    double conv_lambda;  /* lambda of the fiber-like lobe for the convolved error (radians) */
+    int progress;        /* show a progress bar (sl_progress_*) */
+    int verbose;         /* per-level figures on stderr */
 } sl_envfit_settings;
 
 void sl_envfit_default_settings(sl_envfit_settings *s);

@@ -27,7 +27,8 @@ double sl_envfit_rel_l2(const sl_envmap *map, const sl_lobe *lobes, int n, int t
     for (int y = 0; y < lv.h; y++) {
         double row = 0;
         const float *p = map->rgb + (size_t)y * lv.w * 3;
-        for (int i = 0; i < lv.w * 3; i++) row += (double)p[i] * p[i];
+        for (int i = 0; i < lv.w * 3; i++)
+            row += (double)p[i] * p[i];
         energy += row * lv.om[y];
     }
     efl_eval ev = {&lv, threads, 40.0, NULL, NULL};
@@ -42,8 +43,8 @@ double sl_envfit_rel_l2(const sl_envmap *map, const sl_lobe *lobes, int n, int t
 
 typedef struct conv_grid {
     int nw, nh;
-    int *xs, *ys;   /* map pixel of each nu column / row */
-    double *wgt;    /* per nu row: sin(theta) */
+    int *xs, *ys; /* map pixel of each nu column / row */
+    double *wgt;  /* per nu row: sin(theta) */
 } conv_grid;
 
 typedef struct conv_job {
@@ -76,7 +77,8 @@ static void conv_row(void *ctx, int Y) {
             klo = 0;
             khi = w - 1;
         }
-        for (int k = klo; k <= khi; k++) t[k < 0 ? k + w : k] = exp(a * (A + B * cos(2 * M_PI * k / w) - 1));
+        for (int k = klo; k <= khi; k++)
+            t[k < 0 ? k + w : k] = exp(a * (A + B * cos(2 * M_PI * k / w) - 1));
         const float *L = lv->rgb + (size_t)y * w * 3;
         double om = lv->om[y];
         for (int X = 0; X < jb->g->nw; X++) {
@@ -109,7 +111,8 @@ double sl_envfit_conv_rel_l2(const sl_envmap *map, const sl_lobe *lobes, int n, 
     g.xs = sl_malloc(sizeof(int) * g.nw);
     g.ys = sl_malloc(sizeof(int) * g.nh);
     g.wgt = sl_malloc(sizeof(double) * g.nh);
-    for (int X = 0; X < g.nw; X++) g.xs[X] = (int)((X + 0.5) * lv.w / g.nw);
+    for (int X = 0; X < g.nw; X++)
+        g.xs[X] = (int)((X + 0.5) * lv.w / g.nw);
     for (int Y = 0; Y < g.nh; Y++) {
         g.ys[Y] = (int)((Y + 0.5) * lv.h / g.nh);
         g.wgt[Y] = lv.st[g.ys[Y]];
@@ -127,11 +130,13 @@ double sl_envfit_conv_rel_l2(const sl_envmap *map, const sl_lobe *lobes, int n, 
             for (int j = 0; j < n; j++) {
                 double k;
                 if (lobes[j].lambda > 0)
-                    k = efl_sg_inner(lobes[j].dir, 2.0 / (lobes[j].lambda * lobes[j].lambda), nu, a);
+                    k = efl_sg_inner(lobes[j].dir, 2.0 / (lobes[j].lambda * lobes[j].lambda), nu,
+                                     a);
                 else
                     k = exp(a * (nu[0] * lobes[j].dir[0] + nu[1] * lobes[j].dir[1] +
                                  nu[2] * lobes[j].dir[2] - 1));
-                for (int ch = 0; ch < 3; ch++) m[ch] += lobes[j].rgb[ch] * k;
+                for (int ch = 0; ch < 3; ch++)
+                    m[ch] += lobes[j].rgb[ch] * k;
             }
             for (int ch = 0; ch < 3; ch++) {
                 double e = E[((size_t)Y * g.nw + X) * 3 + ch];
@@ -156,8 +161,10 @@ void sl_lobes_eval(const sl_lobe *lobes, int n, const double omega[3], double rg
     rgb[0] = rgb[1] = rgb[2] = 0;
     for (int j = 0; j < n; j++) {
         if (!(lobes[j].lambda > 0)) continue;
-        double d = omega[0] * lobes[j].dir[0] + omega[1] * lobes[j].dir[1] + omega[2] * lobes[j].dir[2];
+        double d =
+            omega[0] * lobes[j].dir[0] + omega[1] * lobes[j].dir[1] + omega[2] * lobes[j].dir[2];
         double G = exp(2 * (d - 1) / (lobes[j].lambda * lobes[j].lambda));
-        for (int ch = 0; ch < 3; ch++) rgb[ch] += lobes[j].rgb[ch] * G;
+        for (int ch = 0; ch < 3; ch++)
+            rgb[ch] += lobes[j].rgb[ch] * G;
     }
 }

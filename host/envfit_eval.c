@@ -32,8 +32,8 @@
 typedef struct lobe_pre {
     double mu[3], t1[3], t2[3], c[3];
     double lambda;
-    double a;         /* broad: a_e; the support uses it */
-    double A;         /* broad: amplitude lambda^2 / lambda_e^2 */
+    double a; /* broad: a_e; the support uses it */
+    double A; /* broad: amplitude lambda^2 / lambda_e^2 */
     int narrow;
     double th, ph, s; /* narrow: centre angles, sin th */
     double dth_du[2], dph_du[2];
@@ -47,8 +47,10 @@ typedef struct eval_job {
 } eval_job;
 
 static double wrap_pi(double x) {
-    while (x > M_PI) x -= 2 * M_PI;
-    while (x <= -M_PI) x += 2 * M_PI;
+    while (x > M_PI)
+        x -= 2 * M_PI;
+    while (x <= -M_PI)
+        x += 2 * M_PI;
     return x;
 }
 
@@ -87,7 +89,9 @@ static void prepare(const efl_level *lv, const sl_lobe *lobes, int n, lobe_pre *
     }
 }
 
-static int nblocks_for(const efl_level *lv) { return lv->h < NBLOCKS_MAX ? lv->h : NBLOCKS_MAX; }
+static int nblocks_for(const efl_level *lv) {
+    return lv->h < NBLOCKS_MAX ? lv->h : NBLOCKS_MAX;
+}
 
 /* Narrow lobe, row y: Theta and its derivatives with respect to th_mu and ln lambda. */
 typedef struct row_erf {
@@ -104,7 +108,8 @@ static void narrow_row(const efl_level *lv, const lobe_pre *p, int y, row_erf *r
 }
 
 /* Narrow lobe: the row span in which it matters (6 lambda + one pixel around its centre). */
-static void narrow_span(const efl_level *lv, const lobe_pre *p, int *y0, int *y1, int *x0, int *nx) {
+static void narrow_span(const efl_level *lv, const lobe_pre *p, int *y0, int *y1, int *x0,
+                        int *nx) {
     double h = M_PI / lv->h, R = 6 * p->lambda + h;
     *y0 = (int)floor((p->th - R) / h);
     *y1 = (int)ceil((p->th + R) / h);
@@ -152,9 +157,11 @@ static void objective_block(void *ctx, int b) {
         const float *L = lv->rgb + (size_t)y * w * 3;
         if (ev->bg) {
             const double *g = ev->bg + (size_t)y * w * 3;
-            for (int i = 0; i < w * 3; i++) r[i] = g[i] - (double)L[i];
+            for (int i = 0; i < w * 3; i++)
+                r[i] = g[i] - (double)L[i];
         } else {
-            for (int i = 0; i < w * 3; i++) r[i] = -(double)L[i];
+            for (int i = 0; i < w * 3; i++)
+                r[i] = -(double)L[i];
         }
         double ct = lv->ct[y], st = lv->st[y];
         for (int j = 0; j < jb->n; j++) {
@@ -190,7 +197,8 @@ static void objective_block(void *ctx, int b) {
             }
         }
         double row = 0;
-        for (int i = 0; i < w * 3; i++) row += r[i] * r[i];
+        for (int i = 0; i < w * 3; i++)
+            row += r[i] * r[i];
         F += row * lv->om[y];
     }
     jb->part[b] = 0.5 * F;
@@ -204,7 +212,8 @@ double efl_objective(efl_eval *ev, const sl_lobe *lobes, int n) {
     eval_job jb = {ev, pre, n, nb, part};
     efl_parallel(ev->threads, nb, objective_block, &jb);
     double F = 0;
-    for (int b = 0; b < nb; b++) F += part[b];
+    for (int b = 0; b < nb; b++)
+        F += part[b];
     free(pre);
     return F;
 }
@@ -291,7 +300,8 @@ void efl_gradient(efl_eval *ev, const sl_lobe *lobes, int n, double *grad) {
     efl_parallel(ev->threads, nb, gradient_block, &jb);
     memset(grad, 0, sizeof(double) * 6 * (size_t)n);
     for (int b = 0; b < nb; b++)
-        for (int i = 0; i < 6 * n; i++) grad[i] += part[(size_t)b * 6 * n + i];
+        for (int i = 0; i < 6 * n; i++)
+            grad[i] += part[(size_t)b * 6 * n + i];
     free(part);
     free(pre);
 }

@@ -28,7 +28,7 @@ static void scaled_f(double R, double *f0, double *f1r, double *h) {
     double sh = 0.5 * (1 - q), ch = 0.5 * (1 + q); /* e^{-R} sinh, e^{-R} cosh */
     double iR = 1 / R;
     *f0 = sh * iR;
-    double f1 = ch * iR - sh * iR * iR;                            /* e^{-R} f' */
+    double f1 = ch * iR - sh * iR * iR;                             /* e^{-R} f' */
     double f2 = sh * iR - 2 * ch * iR * iR + 2 * sh * iR * iR * iR; /* e^{-R} f'' */
     *f1r = f1 * iR;
     *h = (f2 - *f1r) * iR * iR;
@@ -57,8 +57,8 @@ void efl_sg_pair(const double x1[3], const double x2[3], int want_derivs, efl_pa
         p->dI_dx1[i] = s * (f1r * v[i] - f0 * m1[i]);
         p->dI_dx2[i] = s * (f1r * v[i] - f0 * m2[i]);
         for (int k = 0; k < 3; k++)
-            p->M[i][k] = s * ((i == k ? f1r : 0) + h * v[i] * v[k] - f1r * (v[i] * m2[k] + m1[i] * v[k]) +
-                              f0 * m1[i] * m2[k]);
+            p->M[i][k] = s * ((i == k ? f1r : 0) + h * v[i] * v[k] -
+                              f1r * (v[i] * m2[k] + m1[i] * v[k]) + f0 * m1[i] * m2[k]);
     }
 }
 

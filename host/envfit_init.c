@@ -27,7 +27,8 @@ static void dict_row(void *ctx, int Y) {
     int w = lv->w, h = lv->h, np = w * h;
     double *t = sl_malloc(sizeof(double) * (size_t)w);
     double *cw = sl_malloc(sizeof(double) * (size_t)w);
-    for (int k = 0; k < w; k++) cw[k] = cos(2 * M_PI * k / w);
+    for (int k = 0; k < w; k++)
+        cw[k] = cos(2 * M_PI * k / w);
     for (int li = 0; li < d->nlam; li++) {
         double a = 2.0 / (d->lam[li] * d->lam[li]);
         double *out = jb->out + ((size_t)li * np + (size_t)Y * w) * 3;
@@ -74,7 +75,8 @@ void efl_dict_build(efl_dict *d, const efl_level *lv, double lam_lo, double lam_
     int np = lv->w * lv->h;
     d->nlam = lam_hi > lam_lo * 1.01 ? 8 : 1;
     for (int i = 0; i < d->nlam; i++)
-        d->lam[i] = d->nlam == 1 ? lam_lo : lam_lo * pow(lam_hi / lam_lo, (double)i / (d->nlam - 1));
+        d->lam[i] =
+            d->nlam == 1 ? lam_lo : lam_lo * pow(lam_hi / lam_lo, (double)i / (d->nlam - 1));
     d->natoms = np * d->nlam;
     d->corr = sl_malloc(sizeof(double) * 3 * (size_t)d->natoms);
     d->self = sl_malloc(sizeof(double) * (size_t)d->natoms);
@@ -82,11 +84,13 @@ void efl_dict_build(efl_dict *d, const efl_level *lv, double lam_lo, double lam_
         double l2 = d->lam[li] * d->lam[li];
         /* integral of G^2 = integral of G with lambda / sqrt(2) */
         double s = -M_PI * 0.5 * l2 * expm1(-8.0 / l2);
-        for (int p = 0; p < np; p++) d->self[(size_t)li * np + p] = s;
+        for (int p = 0; p < np; p++)
+            d->self[(size_t)li * np + p] = s;
     }
     d->threads = threads;
     double *img = sl_malloc(sizeof(double) * 3 * (size_t)np);
-    for (size_t i = 0; i < 3 * (size_t)np; i++) img[i] = lv->rgb[i];
+    for (size_t i = 0; i < 3 * (size_t)np; i++)
+        img[i] = lv->rgb[i];
     dict_job jb = {d, img, d->corr};
     efl_parallel(threads, lv->h, dict_row, &jb);
     free(img);
@@ -113,7 +117,8 @@ void efl_nnls(const double *A, int m, const double *b, double *c) {
             for (int i = 0; i < m; i++) {
                 double gsum = -b[i * 3 + ch];
                 const double *ai = A + (size_t)i * m;
-                for (int k = 0; k < m; k++) gsum += ai[k] * c[k * 3 + ch];
+                for (int k = 0; k < m; k++)
+                    gsum += ai[k] * c[k * 3 + ch];
                 double ci = c[i * 3 + ch] - gsum / ai[i];
                 if (ci < 0) ci = 0;
                 change += fabs(ci - c[i * 3 + ch]) * sqrt(ai[i]);
@@ -132,7 +137,7 @@ void efl_greedy(const efl_dict *d, sl_lobe *lobes, int n_have, int n_want) {
     double *res0 = sl_malloc(sizeof(double) * 3 * (size_t)na);
     double *res = sl_malloc(sizeof(double) * 3 * (size_t)na);
     double *gcol = sl_malloc(sizeof(double) * (size_t)na * add);
-    double (*amu)[3] = sl_malloc(sizeof *amu * (size_t)na);
+    double(*amu)[3] = sl_malloc(sizeof *amu * (size_t)na);
     double *aa = sl_malloc(sizeof(double) * (size_t)na);
     for (int b = 0; b < na; b++) {
         double lam;
@@ -150,14 +155,16 @@ void efl_greedy(const efl_dict *d, sl_lobe *lobes, int n_have, int n_want) {
         double *r = sl_malloc(sizeof(double) * np3);
         efl_eval ev = {lv, d->threads, EFL_CUT, r, NULL};
         efl_objective(&ev, lobes, n_have);
-        for (size_t i = 0; i < np3; i++) r[i] = -r[i]; /* map - model */
+        for (size_t i = 0; i < np3; i++)
+            r[i] = -r[i]; /* map - model */
         dict_job jb = {d, r, res0};
         efl_parallel(d->threads, lv->h, dict_row, &jb);
         free(r);
     }
     memcpy(res, res0, sizeof(double) * 3 * (size_t)na);
     int *atom = sl_malloc(sizeof(int) * add);
-    double *bb = sl_malloc(sizeof(double) * 3 * add), *c = sl_calloc(3 * (size_t)add, sizeof(double));
+    double *bb = sl_malloc(sizeof(double) * 3 * add),
+           *c = sl_calloc(3 * (size_t)add, sizeof(double));
     double *Am = sl_malloc(sizeof(double) * (size_t)add * add);
     unsigned char *used = sl_calloc((size_t)na, 1);
     for (int m = 0; m < add; m++) {
@@ -192,7 +199,8 @@ void efl_greedy(const efl_dict *d, sl_lobe *lobes, int n_have, int n_want) {
         sl_lobe *L = &lobes[n_have + m];
         efl_dict_atom(d, best, L->dir, &L->lambda);
         double *col = gcol + (size_t)m * na;
-        for (int b = 0; b < na; b++) col[b] = efl_sg_inner(amu[b], aa[b], amu[best], aa[best]);
+        for (int b = 0; b < na; b++)
+            col[b] = efl_sg_inner(amu[b], aa[b], amu[best], aa[best]);
         for (int ch = 0; ch < 3; ch++) {
             double v = res[best * 3 + ch] / d->self[best];
             c[m * 3 + ch] = v > 0 ? v : 0;
@@ -200,8 +208,10 @@ void efl_greedy(const efl_dict *d, sl_lobe *lobes, int n_have, int n_want) {
         /* Re-solve the weights of all added lobes: A_ik = <G_i, G_k>, b_i = <r0, G_i>. */
         int k = m + 1;
         for (int i = 0; i < k; i++) {
-            for (int q = 0; q < k; q++) Am[(size_t)i * k + q] = gcol[(size_t)q * na + atom[i]];
-            for (int ch = 0; ch < 3; ch++) bb[i * 3 + ch] = res0[atom[i] * 3 + ch];
+            for (int q = 0; q < k; q++)
+                Am[(size_t)i * k + q] = gcol[(size_t)q * na + atom[i]];
+            for (int ch = 0; ch < 3; ch++)
+                bb[i * 3 + ch] = res0[atom[i] * 3 + ch];
         }
         efl_nnls(Am, k, bb, c);
         memcpy(res, res0, sizeof(double) * 3 * (size_t)na);
@@ -209,11 +219,13 @@ void efl_greedy(const efl_dict *d, sl_lobe *lobes, int n_have, int n_want) {
             const double *ci = c + i * 3, *gi = gcol + (size_t)i * na;
             if (ci[0] == 0 && ci[1] == 0 && ci[2] == 0) continue;
             for (int b = 0; b < na; b++)
-                for (int ch = 0; ch < 3; ch++) res[b * 3 + ch] -= ci[ch] * gi[b];
+                for (int ch = 0; ch < 3; ch++)
+                    res[b * 3 + ch] -= ci[ch] * gi[b];
         }
     }
     for (int m = 0; m < add; m++)
-        for (int ch = 0; ch < 3; ch++) lobes[n_have + m].rgb[ch] = c[m * 3 + ch];
+        for (int ch = 0; ch < 3; ch++)
+            lobes[n_have + m].rgb[ch] = c[m * 3 + ch];
     free(Am);
     free(bb);
     free(c);

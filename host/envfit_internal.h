@@ -9,10 +9,10 @@
 
 typedef struct efl_level {
     int w, h;
-    float *rgb;              /* w*h*3 radiance */
-    double *om, *ct, *st;    /* per row: pixel solid angle, cos/sin theta */
-    double *cp, *sp;         /* per column: cos/sin phi */
-    double energy;           /* sum_p om |L_p|^2 over channels */
+    float *rgb;           /* w*h*3 radiance */
+    double *om, *ct, *st; /* per row: pixel solid angle, cos/sin theta */
+    double *cp, *sp;      /* per column: cos/sin phi */
+    double energy;        /* sum_p om |L_p|^2 over channels */
 } efl_level;
 
 /* Pixel directions and solid angles for a w x h grid (rgb left NULL). */
@@ -59,8 +59,8 @@ double efl_sg_inner(const double mu1[3], double a1, const double mu2[3], double 
 typedef struct efl_eval {
     const efl_level *lv;
     int threads;
-    double cut; /* exponent cut-off for lobe supports (EFL_CUT while fitting) */
-    double *res; /* w*h*3: model - map */
+    double cut;       /* exponent cut-off for lobe supports (EFL_CUT while fitting) */
+    double *res;      /* w*h*3: model - map */
     const double *bg; /* optional w*h*3 model of lobes held fixed (added to every model) */
 } efl_eval;
 

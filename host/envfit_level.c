@@ -41,7 +41,8 @@ static void level_energy(efl_level *lv) {
     for (int y = 0; y < lv->h; y++) {
         double row = 0;
         const float *p = lv->rgb + (size_t)y * lv->w * 3;
-        for (int i = 0; i < lv->w * 3; i++) row += (double)p[i] * p[i];
+        for (int i = 0; i < lv->w * 3; i++)
+            row += (double)p[i] * p[i];
         e += row * lv->om[y];
     }
     lv->energy = e;
@@ -91,7 +92,8 @@ int efl_pyramid(const sl_envmap *map, int min_h, efl_level **levels) {
         c->rgb = sl_malloc((size_t)c->w * c->h * 3 * sizeof(float));
         for (size_t i = 0; i < (size_t)c->w * c->h; i++)
             for (int ch = 0; ch < 3; ch++)
-                c->rgb[i * 3 + ch] = (float)(acc[i * 4 + 3] > 0 ? acc[i * 4 + ch] / acc[i * 4 + 3] : 0);
+                c->rgb[i * 3 + ch] =
+                    (float)(acc[i * 4 + 3] > 0 ? acc[i * 4 + ch] / acc[i * 4 + 3] : 0);
         free(acc);
         level_energy(c);
     }
@@ -107,7 +109,8 @@ typedef struct par_job {
 
 static void *par_worker(void *arg) {
     par_job *j = arg;
-    for (int b = j->tid; b < j->nblocks; b += j->threads) j->fn(j->ctx, b);
+    for (int b = j->tid; b < j->nblocks; b += j->threads)
+        j->fn(j->ctx, b);
     return NULL;
 }
 
@@ -119,15 +122,18 @@ void efl_parallel(int threads, int nblocks, void (*fn)(void *ctx, int block), vo
     pthread_t th[16];
     par_job jobs[16];
     int started = 0;
-    for (int t = 0; t < threads; t++) jobs[t] = (par_job){threads, nblocks, t, fn, ctx};
+    for (int t = 0; t < threads; t++)
+        jobs[t] = (par_job){threads, nblocks, t, fn, ctx};
     for (int t = 1; t < threads; t++) {
         if (pthread_create(&th[t], NULL, par_worker, &jobs[t]) != 0) break;
         started = t;
     }
     /* Blocks of threads that could not be started run here: the partition stays fixed. */
     par_worker(&jobs[0]);
-    for (int t = started + 1; t < threads; t++) par_worker(&jobs[t]);
-    for (int t = 1; t <= started; t++) pthread_join(th[t], NULL);
+    for (int t = started + 1; t < threads; t++)
+        par_worker(&jobs[t]);
+    for (int t = 1; t <= started; t++)
+        pthread_join(th[t], NULL);
 }
 
 void efl_row_span(const efl_level *lv, int y, const double mu[3], double a, double cut, int *x0,
@@ -175,7 +181,8 @@ void efl_tangent(const double mu[3], double t1[3], double t2[3]) {
     t1[1] = up[2] * mu[0] - up[0] * mu[2];
     t1[2] = up[0] * mu[1] - up[1] * mu[0];
     double n = sqrt(t1[0] * t1[0] + t1[1] * t1[1] + t1[2] * t1[2]);
-    for (int k = 0; k < 3; k++) t1[k] /= n;
+    for (int k = 0; k < 3; k++)
+        t1[k] /= n;
     t2[0] = mu[1] * t1[2] - mu[2] * t1[1];
     t2[1] = mu[2] * t1[0] - mu[0] * t1[2];
     t2[2] = mu[0] * t1[1] - mu[1] * t1[0];

@@ -24,8 +24,8 @@
 static void build_gn(const efl_level *lv, const sl_lobe *lobes, int n, double *H) {
     int P = 6 * n;
     memset(H, 0, sizeof(double) * (size_t)P * P);
-    double (*Bm)[4][3] = sl_malloc(sizeof *Bm * (size_t)n); /* Bm[j][comp][u1,u2,s] */
-    double (*x)[3] = sl_malloc(sizeof *x * (size_t)n);
+    double(*Bm)[4][3] = sl_malloc(sizeof *Bm * (size_t)n); /* Bm[j][comp][u1,u2,s] */
+    double(*x)[3] = sl_malloc(sizeof *x * (size_t)n);
     double *Am = sl_malloc(sizeof(double) * (size_t)n);
     for (int j = 0; j < n; j++) {
         double t1[3], t2[3], A, a;
@@ -52,21 +52,25 @@ static void build_gn(const efl_level *lv, const sl_lobe *lobes, int n, double *H
             for (int r = 0; r < 3; r++) {
                 K[0][1 + r] = pr.dI_dx2[r];
                 K[1 + r][0] = pr.dI_dx1[r];
-                for (int q = 0; q < 3; q++) K[1 + r][1 + q] = pr.M[r][q];
+                for (int q = 0; q < 3; q++)
+                    K[1 + r][1 + q] = pr.M[r][q];
             }
             for (int r = 0; r < 4; r++)
                 for (int q = 0; q < 3; q++) {
                     KB[r][q] = 0;
-                    for (int m = 0; m < 4; m++) KB[r][q] += K[r][m] * Bm[k][m][q];
+                    for (int m = 0; m < 4; m++)
+                        KB[r][q] += K[r][m] * Bm[k][m][q];
                 }
             double Pk[3], Pj[3], Q[3][3];
             for (int al = 0; al < 3; al++) {
                 Pk[al] = KB[0][al]; /* int G_j * dG_k/d geo_al */
                 Pj[al] = 0;         /* int dG_j/d geo_al * G_k */
-                for (int m = 0; m < 4; m++) Pj[al] += Bm[j][m][al] * K[m][0];
+                for (int m = 0; m < 4; m++)
+                    Pj[al] += Bm[j][m][al] * K[m][0];
                 for (int be = 0; be < 3; be++) {
                     Q[al][be] = 0;
-                    for (int m = 0; m < 4; m++) Q[al][be] += Bm[j][m][al] * KB[m][be];
+                    for (int m = 0; m < 4; m++)
+                        Q[al][be] += Bm[j][m][al] * KB[m][be];
                 }
             }
             const double *cj = lobes[j].rgb, *ck = lobes[k].rgb;
@@ -80,7 +84,8 @@ static void build_gn(const efl_level *lv, const sl_lobe *lobes, int n, double *H
                 }
             }
             for (int al = 0; al < 3; al++)
-                for (int be = 0; be < 3; be++) blk[3 + al][3 + be] = sc * cc * Q[al][be];
+                for (int be = 0; be < 3; be++)
+                    blk[3 + al][3 + be] = sc * cc * Q[al][be];
             for (int r = 0; r < 6; r++)
                 for (int c = 0; c < 6; c++) {
                     H[(size_t)(6 * j + r) * P + 6 * k + c] = blk[r][c];
@@ -97,14 +102,16 @@ static void build_gn(const efl_level *lv, const sl_lobe *lobes, int n, double *H
 static int cholesky(double *A, int m) {
     for (int j = 0; j < m; j++) {
         double s = A[(size_t)j * m + j];
-        for (int k = 0; k < j; k++) s -= A[(size_t)j * m + k] * A[(size_t)j * m + k];
+        for (int k = 0; k < j; k++)
+            s -= A[(size_t)j * m + k] * A[(size_t)j * m + k];
         if (!(s > 0)) return -1;
         double d = sqrt(s);
         A[(size_t)j * m + j] = d;
         for (int i = j + 1; i < m; i++) {
             double t = A[(size_t)i * m + j];
             const double *ai = A + (size_t)i * m, *aj = A + (size_t)j * m;
-            for (int k = 0; k < j; k++) t -= ai[k] * aj[k];
+            for (int k = 0; k < j; k++)
+                t -= ai[k] * aj[k];
             A[(size_t)i * m + j] = t / d;
         }
     }
@@ -114,12 +121,14 @@ static int cholesky(double *A, int m) {
 static void chol_solve(const double *A, int m, double *b) {
     for (int i = 0; i < m; i++) {
         double t = b[i];
-        for (int k = 0; k < i; k++) t -= A[(size_t)i * m + k] * b[k];
+        for (int k = 0; k < i; k++)
+            t -= A[(size_t)i * m + k] * b[k];
         b[i] = t / A[(size_t)i * m + i];
     }
     for (int i = m - 1; i >= 0; i--) {
         double t = b[i];
-        for (int k = i + 1; k < m; k++) t -= A[(size_t)k * m + i] * b[k];
+        for (int k = i + 1; k < m; k++)
+            t -= A[(size_t)k * m + i] * b[k];
         b[i] = t / A[(size_t)i * m + i];
     }
 }
@@ -140,9 +149,11 @@ static void apply_step(const sl_lobe *lobes, int n, double *d, double s_lo, doub
         }
         double t1[3], t2[3], m[3];
         efl_tangent(L->dir, t1, t2);
-        for (int k = 0; k < 3; k++) m[k] = L->dir[k] + dj[3] * t1[k] + dj[4] * t2[k];
+        for (int k = 0; k < 3; k++)
+            m[k] = L->dir[k] + dj[3] * t1[k] + dj[4] * t2[k];
         double nm = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-        for (int k = 0; k < 3; k++) o->dir[k] = m[k] / nm;
+        for (int k = 0; k < 3; k++)
+            o->dir[k] = m[k] / nm;
         double s = log(L->lambda), s2 = s + dj[5];
         if (s2 < s_lo) s2 = s_lo;
         if (s2 > s_hi) s2 = s_hi;
@@ -169,7 +180,7 @@ double efl_lm(efl_eval *ev, sl_lobe *lobes, int n, const efl_lm_opts *o, int *it
     double F = efl_objective(ev, lobes, n);
     efl_gradient(ev, lobes, n, g);
     double damp = 1e-3, nu = 2;
-    int it = 0;
+    int it = 0, small = 0;
     for (; it < o->max_iter; it++) {
         build_gn(ev->lv, lobes, n, H);
         /* Free variables: not held at a bound by an outward gradient; a lobe with no weight has
@@ -181,9 +192,12 @@ double efl_lm(efl_eval *ev, sl_lobe *lobes, int n, const efl_lm_opts *o, int *it
             for (int v = 0; v < 6; v++) {
                 int i = 6 * j + v;
                 int held = 0;
-                if (v < 3) held = lobes[j].rgb[v] <= 0 && g[i] > 0;
-                else if (dead) held = 1;
-                else if (v == 5) held = (s <= s_lo + 1e-12 && g[i] > 0) || (s >= s_hi - 1e-12 && g[i] < 0);
+                if (v < 3)
+                    held = lobes[j].rgb[v] <= 0 && g[i] > 0;
+                else if (dead)
+                    held = 1;
+                else if (v == 5)
+                    held = (s <= s_lo + 1e-12 && g[i] > 0) || (s >= s_hi - 1e-12 && g[i] < 0);
                 if (!held && H[(size_t)i * P + i] > 0) freev[m++] = i;
             }
         }
@@ -192,7 +206,8 @@ double efl_lm(efl_eval *ev, sl_lobe *lobes, int n, const efl_lm_opts *o, int *it
         int accepted = 0;
         for (int attempt = 0; attempt < 12 && !accepted; attempt++) {
             for (int a = 0; a < m; a++) {
-                for (int b = 0; b < m; b++) A[(size_t)a * m + b] = H[(size_t)freev[a] * P + freev[b]];
+                for (int b = 0; b < m; b++)
+                    A[(size_t)a * m + b] = H[(size_t)freev[a] * P + freev[b]];
                 A[(size_t)a * m + a] *= 1.0 + damp;
                 rhs[a] = -g[freev[a]];
             }
@@ -203,7 +218,8 @@ double efl_lm(efl_eval *ev, sl_lobe *lobes, int n, const efl_lm_opts *o, int *it
             }
             chol_solve(A, m, rhs);
             memset(d, 0, sizeof(double) * P);
-            for (int a = 0; a < m; a++) d[freev[a]] = rhs[a];
+            for (int a = 0; a < m; a++)
+                d[freev[a]] = rhs[a];
             apply_step(lobes, n, d, s_lo, s_hi, trial);
             /* Predicted decrease of the quadratic model for the step actually taken. */
             double pred = 0;
@@ -214,10 +230,12 @@ double efl_lm(efl_eval *ev, sl_lobe *lobes, int n, const efl_lm_opts *o, int *it
                 }
                 double t = 0;
                 const double *hr = H + (size_t)i * P;
-                for (int k = 0; k < P; k++) t += hr[k] * d[k];
+                for (int k = 0; k < P; k++)
+                    t += hr[k] * d[k];
                 Hd[i] = t;
             }
-            for (int i = 0; i < P; i++) pred -= d[i] * (g[i] + 0.5 * Hd[i]);
+            for (int i = 0; i < P; i++)
+                pred -= d[i] * (g[i] + 0.5 * Hd[i]);
             double F_new = efl_objective(ev, trial, n);
             if (F_new < F && isfinite(F_new)) {
                 double rho = pred > 0 ? (F - F_new) / pred : 0.5;
@@ -241,7 +259,9 @@ double efl_lm(efl_eval *ev, sl_lobe *lobes, int n, const efl_lm_opts *o, int *it
         }
         efl_gradient(ev, lobes, n, g);
         if (prog) sl_progress_update(prog, prog_lo + (prog_hi - prog_lo) * (it + 1) / o->max_iter);
-        if (F_old - F <= o->rel_tol * F_old) {
+        /* Converged after three steps in a row that gain almost nothing. */
+        small = F_old - F <= o->rel_tol * F_old ? small + 1 : 0;
+        if (small >= 3) {
             it++;
             break;
         }

@@ -12,7 +12,8 @@
 int sl_envfit_preview(const char *path, const sl_envmap *map, const sl_lobe *lobes, int n,
                       double exposure, sl_err *e) {
     int f = 1;
-    while (map->width / f > 1024 && map->height / (f * 2) >= 1) f *= 2;
+    while (map->width / f > 1024 && map->height / (f * 2) >= 1)
+        f *= 2;
     int w = map->width / f, h = map->height / f, W = 3 * w;
     if (w < 1 || h < 1) return sl_fail(e, "%s: map too small for a preview", path);
     efl_level lv = {0};
@@ -40,7 +41,8 @@ int sl_envfit_preview(const char *path, const sl_envmap *map, const sl_lobe *lob
                 img[((size_t)y * W + w + x) * 4 + c] = (float)fit[c];
                 img[((size_t)y * W + 2 * w + x) * 4 + c] = (float)fabs(fit[c] - orig[c]);
             }
-            for (int k = 0; k < 3; k++) img[((size_t)y * W + k * w + x) * 4 + 3] = 1.0f;
+            for (int k = 0; k < 3; k++)
+                img[((size_t)y * W + k * w + x) * 4 + 3] = 1.0f;
         }
     free(ev.res);
     lv.rgb = NULL;

@@ -19,7 +19,9 @@
 #define EFL_SUN_MAX_SR 0.005
 #define EFL_SUN_MIN_SHARE 0.02
 
-static double lum3(const float *p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }
+static double lum3(const float *p) {
+    return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+}
 
 int efl_split_suns(const sl_envmap *map, int max_suns, double lam_min, double lam_max, int threads,
                    float *sky, sl_lobe *suns) {
@@ -31,7 +33,8 @@ int efl_split_suns(const sl_envmap *map, int max_suns, double lam_min, double la
     efl_level_geometry(&lv, w, h);
     double total = 0;
     for (int y = 0; y < h; y++)
-        for (int x = 0; x < w; x++) total += lv.om[y] * lum3(map->rgb + ((size_t)y * w + x) * 3);
+        for (int x = 0; x < w; x++)
+            total += lv.om[y] * lum3(map->rgb + ((size_t)y * w + x) * 3);
     double thr = EFL_SUN_RATIO * total / (4 * M_PI);
     unsigned char *mask = sl_calloc(np, 1); /* 1: in a sun, 2: in the current one */
     int *stack = sl_malloc(sizeof(int) * np);
@@ -76,21 +79,27 @@ int efl_split_suns(const sl_envmap *map, int max_suns, double lam_min, double la
                     if (yy < 0 || yy >= h) continue;
                     size_t j = (size_t)yy * w + xx;
                     if (mask[j]) continue;
-                    for (int c = 0; c < 3; c++) ring[c] += lv.om[yy] * sky[3 * j + c];
+                    for (int c = 0; c < 3; c++)
+                        ring[c] += lv.om[yy] * sky[3 * j + c];
                     rw += lv.om[yy];
                 }
         }
-        for (int c = 0; c < 3; c++) ring[c] = rw > 0 ? ring[c] / rw : 0;
+        for (int c = 0; c < 3; c++)
+            ring[c] = rw > 0 ? ring[c] / rw : 0;
         double power = 0;
         for (int m = 0; m < count; m++) {
             const float *p = sky + 3 * (size_t)members[m];
             for (int c = 0; c < 3; c++) {
                 double v = p[c] - ring[c];
-                power += (v > 0 ? v : 0) * lv.om[members[m] / w] * (c == 1 ? 0.7152 : c == 0 ? 0.2126 : 0.0722);
+                power += (v > 0 ? v : 0) * lv.om[members[m] / w] *
+                         (c == 1   ? 0.7152
+                          : c == 0 ? 0.2126
+                                   : 0.0722);
             }
         }
         int ok = sr <= EFL_SUN_MAX_SR && power >= EFL_SUN_MIN_SHARE * total;
-        for (int m = 0; m < count; m++) mask[members[m]] = ok ? 1 : 3; /* 3: bright, not a sun */
+        for (int m = 0; m < count; m++)
+            mask[members[m]] = ok ? 1 : 3; /* 3: bright, not a sun */
         if (!ok) {
             free(members);
             continue;
@@ -111,14 +120,17 @@ int efl_split_suns(const sl_envmap *map, int max_suns, double lam_min, double la
                 wl += v;
                 sky[3 * i + c] = (float)(sky[3 * i + c] - v);
             }
-            for (int k = 0; k < 3; k++) cen[k] += wl * lv.om[y] * d[k];
+            for (int k = 0; k < 3; k++)
+                cen[k] += wl * lv.om[y] * d[k];
         }
         free(members);
         double nc = sqrt(cen[0] * cen[0] + cen[1] * cen[1] + cen[2] * cen[2]);
         sl_lobe *S = &suns[ns];
-        for (int k = 0; k < 3; k++) S->dir[k] = cen[k] / nc;
+        for (int k = 0; k < 3; k++)
+            S->dir[k] = cen[k] / nc;
         S->lambda = fmin(lam_max, fmax(lam_min, sqrt(sr / M_PI)));
-        for (int c = 0; c < 3; c++) S->rgb[c] = P[c] / sl_lobe_integral(S->lambda);
+        for (int c = 0; c < 3; c++)
+            S->rgb[c] = P[c] / sl_lobe_integral(S->lambda);
         /* Refine direction, width and colour on the sun image alone. */
         lv.rgb = sunimg;
         efl_eval ev = {&lv, threads, EFL_CUT, res, NULL};

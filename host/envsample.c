@@ -18,7 +18,9 @@ typedef struct sat {
     double *s; /* (w+1) x (h+1) summed-area table of Omega * luminance */
 } sat;
 
-static double lum(const float *p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }
+static double lum(const float *p) {
+    return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+}
 
 static double sat_sum(const sat *t, int x0, int y0, int x1, int y1) {
     int W = t->w + 1;
@@ -26,7 +28,9 @@ static double sat_sum(const sat *t, int x0, int y0, int x1, int y1) {
            t->s[(size_t)y0 * W + x0];
 }
 
-static double rsum(const sat *t, const region *r) { return sat_sum(t, r->x0, r->y0, r->x1, r->y1); }
+static double rsum(const sat *t, const region *r) {
+    return sat_sum(t, r->x0, r->y0, r->x1, r->y1);
+}
 
 /* Splits r at its power median across its angularly longer side; returns 0 if it is one pixel. */
 static int split(const sat *t, const region *r, region *a, region *b) {
@@ -70,7 +74,9 @@ static int split(const sat *t, const region *r, region *a, region *b) {
     return 1;
 }
 
-static double light_power(const sl_envlight *l) { return l->rgb[0] + l->rgb[1] + l->rgb[2]; }
+static double light_power(const sl_envlight *l) {
+    return l->rgb[0] + l->rgb[1] + l->rgb[2];
+}
 
 static int cmp_light(const void *pa, const void *pb) {
     double a = light_power(pa), b = light_power(pb);
@@ -143,7 +149,8 @@ int sl_envsample(const sl_envmap *map, int n, double conv_lambda, int threads, s
             sl_envmap_dir(w, h, 0.5 * (r->x0 + r->x1) - 0.5, 0.5 * (r->y0 + r->y1) - 0.5, dsum);
             nd = 1;
         }
-        for (int k = 0; k < 3; k++) L->dir[k] = dsum[k] / nd;
+        for (int k = 0; k < 3; k++)
+            L->dir[k] = dsum[k] / nd;
         if (rel_l2)
             for (int y = r->y0; y < r->y1; y++) {
                 double om = sl_envmap_pixel_solid_angle(w, h, y);
@@ -193,11 +200,12 @@ int sl_envlights_save(const char *path, const sl_envlights *l, sl_err *e) {
     fprintf(af.fp, "{\n  \"lights\": [\n");
     for (int i = 0; i < l->count; i++) {
         const sl_envlight *L = &l->light[i];
-        fprintf(af.fp,
-                "    {\"dir\": [%.17g, %.17g, %.17g], \"rgb\": [%.9g, %.9g, %.9g], \"solid_angle\": "
-                "%.9g}%s\n",
-                L->dir[0], L->dir[1], L->dir[2], L->rgb[0], L->rgb[1], L->rgb[2], L->solid_angle,
-                i + 1 < l->count ? "," : "");
+        fprintf(
+            af.fp,
+            "    {\"dir\": [%.17g, %.17g, %.17g], \"rgb\": [%.9g, %.9g, %.9g], \"solid_angle\": "
+            "%.9g}%s\n",
+            L->dir[0], L->dir[1], L->dir[2], L->rgb[0], L->rgb[1], L->rgb[2], L->solid_angle,
+            i + 1 < l->count ? "," : "");
     }
     fprintf(af.fp, "  ]");
     if (rec) {
@@ -233,7 +241,8 @@ int sl_envlights_load(const char *path, sl_envlights *out, sl_err *e) {
     }
     if (sl_json_check_keys(&top, root, top_keys, e)) goto done;
     arr = cJSON_GetObjectItemCaseSensitive(root, "lights");
-    if (!cJSON_IsArray(arr) || cJSON_GetArraySize(arr) < 1 || cJSON_GetArraySize(arr) > SL_LOBES_MAX) {
+    if (!cJSON_IsArray(arr) || cJSON_GetArraySize(arr) < 1 ||
+        cJSON_GetArraySize(arr) > SL_LOBES_MAX) {
         sl_fail(e, "%s: lights: expected an array of 1 to %d lights", path, SL_LOBES_MAX);
         goto done;
     }

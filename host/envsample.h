@@ -20,14 +20,14 @@
 
 typedef struct sl_envlight {
     double dir[3];
-    double rgb[3];        /* power: integral of radiance over the light's region */
-    double solid_angle;   /* of the region */
+    double rgb[3];      /* power: integral of radiance over the light's region */
+    double solid_angle; /* of the region */
 } sl_envlight;
 
 typedef struct sl_envlights {
     int count;
     sl_envlight *light;
-    char *record_json;    /* the "sample" object as JSON text (NULL when absent) */
+    char *record_json; /* the "sample" object as JSON text (NULL when absent) */
 } sl_envlights;
 
 /* Cuts the map into n regions (n >= 1; fewer when the map has fewer pixels) and returns one

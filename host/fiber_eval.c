@@ -4,11 +4,15 @@
 #include "fiber_eval.h"
 
 #include "deon_ref.h"
+#include "dual_c.h"
+#include "dual_ref.h"
 #include "fiber_c.h"
 #include "fiber_cl.h"
 #include "fiber_deon.h"
 #include "furnace_ref.h"
 #include "marschner_ref.h"
+#include "srbf_ref.h"
+#include "srbf_tables.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -37,7 +41,7 @@ static const qdesc quantities[SL_EVAL_NUM_QUANTITIES] = {
       {"theta_o", SL_RANGE_THETA},
       {"phi_o", SL_RANGE_PHI}}},
     {"srbf",
-     0,
+     1,
      1,
      0,
      5,
@@ -54,7 +58,7 @@ static const qdesc quantities[SL_EVAL_NUM_QUANTITIES] = {
      {{"v", SL_RANGE_POSITIVE}, {"theta_i", SL_RANGE_THETA}, {"theta_o", SL_RANGE_THETA}}},
     {"furnace", 1, 1, 0, 2, {{"theta_o", SL_RANGE_THETA}, {"phi_o", SL_RANGE_PHI}}},
     {"transmittance",
-     0,
+     1, /* evaluated by host/shadow_eval.c (needs the scene), not by sl_eval_run */
      0,
      1,
      4,
@@ -65,7 +69,7 @@ static const qdesc quantities[SL_EVAL_NUM_QUANTITIES] = {
      1,
      4,
      {{"x", SL_RANGE_ANY}, {"y", SL_RANGE_ANY}, {"z", SL_RANGE_ANY}, {"lobe", SL_RANGE_INDEX}}},
-    {"ms-material", 0, 1, 0, 1, {{"theta_d", SL_RANGE_ANY}}},
+    {"ms-material", 1, 1, 0, 1, {{"theta_d", SL_RANGE_THETA}}},
 };
 
 static const char *const backend_names[] = {"reference", "c", "opencl"};
@@ -240,6 +244,12 @@ static int run_reference(sl_eval_quantity q, const sl_material *m, int ch, size_
         case SL_EVAL_FURNACE:
             y[0] = slref_furnace(m, ch, x[0], x[1]);
             break;
+        case SL_EVAL_MS_MATERIAL:
+            slref_dual_terms(m, ch, x[0], y);
+            break;
+        case SL_EVAL_SRBF:
+            slref_srbf(m, ch, x[0], x[1], x[2], x[3], x[4], y);
+            break;
         default:
             return sl_fail(e, "eval: %s is not implemented yet", quantities[q].name);
         }
@@ -258,8 +268,9 @@ static float to_float(double v, sl_eval_range range) {
     return f;
 }
 
-static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_cl *cl, const sl_material *m, int ch,
-                     size_t n, const double *in, double *out, sl_err *e) {
+static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, int segments,
+                     sl_cl *cl, const sl_material *m, int ch, size_t n, const double *in,
+                     double *out, sl_err *e) {
     const qdesc *d = &quantities[q];
     size_t nin = d->nin, nout = sl_eval_num_outputs(q, m);
     if (b == SL_EVAL_OPENCL && !cl) return sl_fail(e, "eval: --backend opencl needs a device");
@@ -270,7 +281,10 @@ static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_cl *cl, const sl_
     sl_fiber_params fp;
     if (m) sl_material_to_fiber(m, ch, &fp);
     int rc = 0;
-    if (b == SL_EVAL_C) {
+    if (q == SL_EVAL_SRBF) {
+        rc = sl_srbf_eval(b == SL_EVAL_OPENCL ? cl : NULL, m, ch, mt == SL_EVAL_METHOD_XU,
+                          segments, n, fin, fout, e);
+    } else if (b == SL_EVAL_C) {
         switch (q) {
         case SL_EVAL_SCATTER:
             slc_scatter_batch(&fp, n, fin, fout);
@@ -280,6 +294,9 @@ static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_cl *cl, const sl_
             break;
         case SL_EVAL_FURNACE:
             slc_furnace_batch(&fp, n, fin, fout);
+            break;
+        case SL_EVAL_MS_MATERIAL:
+            slc_ms_material_batch(&fp, n, fin, fout);
             break;
         default:
             rc = sl_fail(e, "eval: %s is not implemented yet", d->name);
@@ -308,14 +325,44 @@ static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_cl *cl, const sl_
     return rc;
 }
 
+int sl_eval_method_from_name(const char *name, sl_eval_method *mt) {
+    static const char *const names[] = {"exact", "xu", "fast"};
+    for (int i = 0; i < 3; i++)
+        if (strcmp(name, names[i]) == 0) {
+            *mt = (sl_eval_method)(i + 1);
+            return 0;
+        }
+    return -1;
+}
+
+const char *sl_eval_method_unsupported(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt) {
+    if (q != SL_EVAL_SRBF || mt == SL_EVAL_METHOD_DEFAULT) return NULL;
+    if (b == SL_EVAL_REFERENCE && mt != SL_EVAL_METHOD_EXACT)
+        return "--backend reference has --method exact only (xu and fast run on c and opencl)";
+    if (b != SL_EVAL_REFERENCE && mt == SL_EVAL_METHOD_EXACT)
+        return "--method exact needs --backend reference";
+    return NULL;
+}
+
 int sl_eval_run(sl_eval_quantity q, sl_eval_backend b, sl_cl *cl, const sl_material *m, int ch,
                 size_t n, const double *in, double *out, sl_err *e) {
+    return sl_eval_run_method(q, b, SL_EVAL_METHOD_DEFAULT, 0, cl, m, ch, n, in, out, e);
+}
+
+int sl_eval_run_method(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt,
+                       int srbf_segments, sl_cl *cl, const sl_material *m, int ch, size_t n,
+                       const double *in, double *out, sl_err *e) {
+    const char *why = sl_eval_method_unsupported(q, b, mt);
+    if (why) return sl_fail(e, "eval: %s", why);
     if (!quantities[q].implemented)
         return sl_fail(e, "eval: %s is not implemented yet", quantities[q].name);
     if (quantities[q].uses_material && !m)
         return sl_fail(e, "eval: %s needs a material", quantities[q].name);
+    if (q == SL_EVAL_MS_MATERIAL && m->model != SL_MODEL_MARSCHNER)
+        return sl_fail(e, "eval: ms-material: model deon is not supported yet (marschner only)");
     if (sl_eval_check_backend(q, b, m, NULL, e)) return -1;
     if (n == 0) return 0;
     if (b == SL_EVAL_REFERENCE) return run_reference(q, m, ch, n, in, out, e);
-    return run_float(q, b, cl, quantities[q].uses_material ? m : NULL, ch, n, in, out, e);
+    return run_float(q, b, mt, srbf_segments, cl, quantities[q].uses_material ? m : NULL, ch, n,
+                     in, out, e);
 }

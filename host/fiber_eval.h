@@ -40,7 +40,7 @@ typedef enum sl_eval_range {
     SL_RANGE_THETA,    /* [-pi/2, pi/2] */
     SL_RANGE_PHI,      /* (-pi, pi]; -pi itself is accepted (the same direction as pi) */
     SL_RANGE_POSITIVE, /* > 0 (v, lambda) */
-    SL_RANGE_ANY,      /* any finite number (x, y, z, theta_d) */
+    SL_RANGE_ANY,      /* any finite number (x, y, z) */
     SL_RANGE_INDEX     /* an integer >= 0 (lobe) */
 } sl_eval_range;
 
@@ -91,5 +91,24 @@ int sl_eval_check_backend(sl_eval_quantity q, sl_eval_backend b, const sl_materi
  * cl is used (and required) only for SL_EVAL_OPENCL. */
 int sl_eval_run(sl_eval_quantity q, sl_eval_backend b, sl_cl *cl, const sl_material *m, int ch,
                 size_t n, const double *in, double *out, sl_err *e);
+
+/* srbf's --method (numerics.md sec. 5; docs/srbf.md). SL_EVAL_METHOD_DEFAULT: exact on the
+ * reference backend, fast on the others. */
+typedef enum sl_eval_method {
+    SL_EVAL_METHOD_DEFAULT = 0,
+    SL_EVAL_METHOD_EXACT,
+    SL_EVAL_METHOD_XU,
+    SL_EVAL_METHOD_FAST
+} sl_eval_method;
+/* "exact", "xu", "fast" <-> enum; from_name returns -1 for an unknown name. */
+int sl_eval_method_from_name(const char *name, sl_eval_method *mt);
+/* Whether backend b implements method mt for q (srbf: exact on reference only, xu and fast on
+ * c and opencl); NULL when fine, else why not. Other quantities accept and ignore any method. */
+const char *sl_eval_method_unsupported(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt);
+/* sl_eval_run with an explicit method (sl_eval_run uses SL_EVAL_METHOD_DEFAULT). srbf_segments
+ * is the piecewise-linear quadrature's m of the xu method (1..8; 0: the default 4). */
+int sl_eval_run_method(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt,
+                       int srbf_segments, sl_cl *cl, const sl_material *m, int ch, size_t n,
+                       const double *in, double *out, sl_err *e);
 
 #endif

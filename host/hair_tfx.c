@@ -57,7 +57,14 @@ int sl_hair_parse_tfx(const unsigned char *d, size_t n, const char *name, sl_hai
     uint32_t S = sl_rd_u32(d + 4), V = sl_rd_u32(d + 8);
     if (S == 0) return sl_fail(e, "%s: no strands (header says 0)", name);
     if (V < 2) return sl_fail(e, "%s: %u vertices per strand, need at least 2", name, V);
+    /* S, V < 2^32, so S*V fits in 64 bits, but 16*S*V may not (S = V = 2^30 wraps to 0): a
+     * point takes at least 12 bytes, so more points than bytes is refused before any product. */
     uint64_t SV = (uint64_t)S * V;
+    if (SV > n)
+        return sl_fail(e,
+                       "%s: truncated: the header declares %u strands x %u vertices, more than the "
+                       "%zu-byte file can hold",
+                       name, S, V, n);
     tfx_array all[6];
     int count;
     uint32_t pos_off, pos_stride, thick_off, color_off;

@@ -4,6 +4,8 @@
 
 #include "../cpu/prefix_sum.h"
 #include "prefix_sum_cl.h"
+#include "dodm_cl.h"   /* slchk_dodm (shadow) */
+#include "raster_cl.h" /* slchk_raster (shadow) */
 
 #include <math.h>
 #include <stdlib.h>
@@ -14,6 +16,8 @@ static const sl_kernel_check checks[] = {
      slchk_prefix_sum},
     {"prefix_sum_serial", "the same, one work-item per tile (the variant CPU devices use)",
      slchk_prefix_sum_serial},
+    {"raster", "segment rasterizer + DODM tables, raster.cl + dodm.cl (bit-identical)", slchk_raster},
+    {"dodm_lookup", "convolution optical depth lookup T = exp(-tau), dodm.cl", slchk_dodm},
 };
 
 const sl_kernel_check *sl_kernel_checks(size_t *count) {

@@ -1,12 +1,11 @@
-/* lights.h: a small set of directional lights that stands in for an environment map in the
- * placeholder renderer (host/render_preview.c) until the SRBF shading passes land: the map is cut
- * into cells of equal angular size, each cell becomes one light carrying the cell's power
- * (sum of radiance x solid angle) from its power-weighted mean direction, and the weakest cells
- * are merged into their nearest kept neighbour so that no energy is lost. */
+/* lights.h: directional lights that stand in for the SRBF lobes in the placeholder renderer
+ * (host/render_preview.c) until the SRBF integration pass lands: each lobe becomes one light at
+ * its centre carrying the lobe's power (rgb x integral of G over the sphere), i.e. the lobe's
+ * response in the limit lambda -> 0. */
 #ifndef SL_LIGHTS_H
 #define SL_LIGHTS_H
 
-#include "envmap.h"
+#include "lobes_json.h"
 
 typedef struct sl_dirlight {
     float dir[3]; /* unit, world frame, pointing from the scene toward the light */
@@ -18,9 +17,7 @@ typedef struct sl_lights {
     sl_dirlight *light;
 } sl_lights;
 
-/* rotation_deg turns the map about +Y; intensity scales it. */
-int sl_lights_from_envmap(const sl_envmap *m, int cells_x, int cells_y, int max_lights,
-                          double rotation_deg, double intensity, sl_lights *out, sl_err *e);
+int sl_lights_from_lobes(const sl_lobes *l, sl_lights *out, sl_err *e);
 void sl_lights_free(sl_lights *l);
 
 #endif

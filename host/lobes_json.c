@@ -26,13 +26,13 @@ static int check_lobe(sl_lobe *lb, const char *name, int idx, sl_err *e) {
     double n = sqrt(lb->dir[0] * lb->dir[0] + lb->dir[1] * lb->dir[1] + lb->dir[2] * lb->dir[2]);
     if (!isfinite(n) || fabs(n - 1.0) > 1e-3)
         return sl_fail(e, "%s: lobes[%d].dir: expected a unit vector (length %.6g)", name, idx, n);
-    for (int k = 0; k < 3; k++) lb->dir[k] /= n;
+    for (int k = 0; k < 3; k++)
+        lb->dir[k] /= n;
     if (!isfinite(lb->lambda) || !(lb->lambda > 0))
         return sl_fail(e, "%s: lobes[%d].lambda: expected a positive number", name, idx);
     for (int k = 0; k < 3; k++)
         if (!isfinite(lb->rgb[k]) || lb->rgb[k] < 0)
-            return sl_fail(e, "%s: lobes[%d].rgb[%d]: expected a finite number >= 0", name, idx,
-                           k);
+            return sl_fail(e, "%s: lobes[%d].rgb[%d]: expected a finite number >= 0", name, idx, k);
     return 0;
 }
 
@@ -79,7 +79,8 @@ int sl_lobes_parse(const char *text, size_t len, const char *name, sl_lobes *out
             goto done;
         }
         sl_lobe *lb = &out->lobe[i];
-        if (sl_json_check_keys(&c, it, lobe_keys, e) || sl_json_vec(&c, it, "dir", 1, 3, lb->dir, e) ||
+        if (sl_json_check_keys(&c, it, lobe_keys, e) ||
+            sl_json_vec(&c, it, "dir", 1, 3, lb->dir, e) ||
             sl_json_number(&c, it, "lambda", 1, &lb->lambda, e) ||
             sl_json_vec(&c, it, "rgb", 1, 3, lb->rgb, e) || check_lobe(lb, name, i, e))
             goto done;

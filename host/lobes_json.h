@@ -1,8 +1,8 @@
 /* lobes_json.h: SRBF lobe lists (numerics.md sec. 4) and their JSON files.
  *
  * An environment map is approximated by lobes (omega_j, lambda_j, rgb_j):
- *   L(omega) ~ sum_j rgb_j G(omega; omega_j, lambda_j),  G = exp(2 (omega . omega_j - 1) / lambda^2)
- * (Xu 2011 Eq. 1). The file is
+ *   L(omega) ~ sum_j rgb_j G(omega; omega_j, lambda_j),  G = exp(2 (omega . omega_j - 1) /
+ * lambda^2) (Xu 2011 Eq. 1). The file is
  *   {"lobes": [{"dir": [x, y, z], "lambda": l, "rgb": [r, g, b]}, ...], "fit": {...}}
  * with dir a unit vector in the world frame, lambda > 0 and rgb >= 0. `strandlight fit` writes
  * the "fit" object (map hash, settings, achieved errors, time); readers keep it as text so a

@@ -21,7 +21,8 @@ static double quad_product(const double m1[3], double a1, const double m2[3], do
         double ct = 1 - u, st = sqrt(fmax(0, 1 - ct * ct));
         for (int k = 0; k < np; k++) {
             double ph = 2 * M_PI * (k + 0.5) / np, w[3];
-            for (int c = 0; c < 3; c++) w[c] = ct * m1[c] + st * (cos(ph) * t1[c] + sin(ph) * t2[c]);
+            for (int c = 0; c < 3; c++)
+                w[c] = ct * m1[c] + st * (cos(ph) * t1[c] + sin(ph) * t2[c]);
             double d2 = w[0] * m2[0] + w[1] * m2[1] + w[2] * m2[2];
             sum += exp(-a1 * u + a2 * (d2 - 1)) * du * (2 * M_PI / np);
         }
@@ -31,7 +32,8 @@ static double quad_product(const double m1[3], double a1, const double m2[3], do
 
 static void unit(double v[3]) {
     double n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    for (int k = 0; k < 3; k++) v[k] /= n;
+    for (int k = 0; k < 3; k++)
+        v[k] /= n;
 }
 
 TEST(envfit_sg_product_matches_quadrature) {
@@ -51,8 +53,8 @@ TEST(envfit_sg_product_matches_quadrature) {
     }
     /* Self product: integral of G^2 = pi l^2 / 2 (1 - exp(-8 / l^2)) with a = 2 / l^2. */
     double l = 0.3;
-    CHECK_REL(efl_sg_inner(m1, 2 / (l * l), m1, 2 / (l * l)), M_PI * l * l / 2 * (1 - exp(-8 / (l * l))),
-              1e-12);
+    CHECK_REL(efl_sg_inner(m1, 2 / (l * l), m1, 2 / (l * l)),
+              M_PI * l * l / 2 * (1 - exp(-8 / (l * l))), 1e-12);
 }
 
 TEST(envfit_sg_derivatives_match_finite_differences) {
@@ -81,7 +83,8 @@ TEST(envfit_sg_derivatives_match_finite_differences) {
         CHECK_NEAR(p.dI_dx2[i], (pp.I - pm.I) / (2 * hstep), 1e-6 * fabs(p.I) + 1e-9);
         /* M[r][i] = d/dx2_i of dI/dx1_r */
         for (int r = 0; r < 3; r++)
-            CHECK_NEAR(p.M[r][i], (pp.dI_dx1[r] - pm.dI_dx1[r]) / (2 * hstep), 1e-5 * fabs(p.I) + 1e-8);
+            CHECK_NEAR(p.M[r][i], (pp.dI_dx1[r] - pm.dI_dx1[r]) / (2 * hstep),
+                       1e-5 * fabs(p.I) + 1e-8);
     }
 }
 
@@ -107,11 +110,13 @@ TEST(envfit_pixel_model_preserves_lobe_integral) {
         double s[3] = {0, 0, 0};
         for (int y = 0; y < lv.h; y++)
             for (int x = 0; x < lv.w; x++)
-                for (int c = 0; c < 3; c++) s[c] += lv.om[y] * res[((size_t)y * lv.w + x) * 3 + c];
+                for (int c = 0; c < 3; c++)
+                    s[c] += lv.om[y] * res[((size_t)y * lv.w + x) * 3 + c];
         double I = M_PI * lams[i] * lams[i] * (1 - exp(-4 / (lams[i] * lams[i])));
         /* erf form: exact up to the sin(th) ~ sin(th_mu) approximation (~1e-4); widened form:
          * Poisson summation error of a Gaussian sampled at <= its width (~1e-4). */
-        for (int c = 0; c < 3; c++) CHECK_REL(s[c], (c + 1) * I, 2e-3);
+        for (int c = 0; c < 3; c++)
+            CHECK_REL(s[c], (c + 1) * I, 2e-3);
     }
     free(res);
     efl_level_free(&lv);
@@ -125,13 +130,15 @@ TEST(envfit_gradient_matches_finite_differences) {
         for (int x = 0; x < lv.w; x++)
             for (int c = 0; c < 3; c++)
                 lv.rgb[((size_t)y * lv.w + x) * 3 + c] =
-                    (float)(1 + 0.5 * sin(0.3 * x + c) * cos(0.2 * y) + (x == 40 && y == 20 ? 50 : 0));
+                    (float)(1 + 0.5 * sin(0.3 * x + c) * cos(0.2 * y) +
+                            (x == 40 && y == 20 ? 50 : 0));
     double *res = malloc(sizeof(double) * 3 * lv.w * lv.h);
     efl_eval ev = {&lv, 2, 40.0, res, NULL};
     sl_lobe lobes[3] = {{{0.2, 0.3, -0.9}, 0.5, {0.7, 0.5, 0.2}},
                         {{-0.6, 0.1, 0.7}, 0.12, {2.0, 1.0, 0.5}},
                         {{0.5, 0.05, -0.8}, 0.03, {40, 30, 20}}}; /* narrow: < 3 pixels */
-    for (int j = 0; j < 3; j++) unit(lobes[j].dir);
+    for (int j = 0; j < 3; j++)
+        unit(lobes[j].dir);
     double g[18];
     efl_objective(&ev, lobes, 3);
     efl_gradient(&ev, lobes, 3, g);
@@ -148,7 +155,8 @@ TEST(envfit_gradient_matches_finite_differences) {
                     L[j].rgb[v] += d;
                 else if (v < 5) {
                     const double *t = v == 3 ? t1 : t2;
-                    for (int k = 0; k < 3; k++) L[j].dir[k] += d * t[k];
+                    for (int k = 0; k < 3; k++)
+                        L[j].dir[k] += d * t[k];
                     unit(L[j].dir);
                 } else
                     L[j].lambda *= exp(d);
@@ -158,8 +166,8 @@ TEST(envfit_gradient_matches_finite_differences) {
             /* Central differences of a smooth objective: truncation ~h^2, round-off ~1e-16 F/h;
              * 1e-4 relative to the gradient's scale covers both. */
             double scale = fabs(g[6 * j + v]) + 1e-3 * (fabs(g[6 * j]) + 1);
-            CHECK_MSG(fabs(fd - g[6 * j + v]) <= 1e-4 * scale, "lobe %d var %d: analytic %.9g fd %.9g", j,
-                      v, g[6 * j + v], fd);
+            CHECK_MSG(fabs(fd - g[6 * j + v]) <= 1e-4 * scale,
+                      "lobe %d var %d: analytic %.9g fd %.9g", j, v, g[6 * j + v], fd);
         }
     }
     free(res);
@@ -182,14 +190,17 @@ static void synth_map(sl_envmap *m, int w, int h, const sl_lobe *lobes, int n) {
                     double ph = 2 * M_PI * (x + (sx + 0.5) / S) / w - M_PI;
                     double d[3] = {st * sin(ph), cos(th), -st * cos(ph)};
                     for (int j = 0; j < n; j++) {
-                        double c = d[0] * lobes[j].dir[0] + d[1] * lobes[j].dir[1] + d[2] * lobes[j].dir[2];
+                        double c = d[0] * lobes[j].dir[0] + d[1] * lobes[j].dir[1] +
+                                   d[2] * lobes[j].dir[2];
                         double G = exp(2 * (c - 1) / (lobes[j].lambda * lobes[j].lambda));
-                        for (int k = 0; k < 3; k++) acc[k] += st * lobes[j].rgb[k] * G;
+                        for (int k = 0; k < 3; k++)
+                            acc[k] += st * lobes[j].rgb[k] * G;
                     }
                     wsum += st;
                 }
             }
-            for (int k = 0; k < 3; k++) m->rgb[((size_t)y * w + x) * 3 + k] = (float)(acc[k] / wsum);
+            for (int k = 0; k < 3; k++)
+                m->rgb[((size_t)y * w + x) * 3 + k] = (float)(acc[k] / wsum);
         }
     }
 }
@@ -203,11 +214,12 @@ TEST(envfit_recovers_known_lobes) {
     /* Six well separated lobes of different widths and colours plus a sun 5000 times brighter
      * than the sky and narrower than a pixel. */
     sl_lobe truth[7] = {
-        {{0.0, 1.0, 0.0}, 0.6, {0.8, 0.9, 1.2}},      {{1.0, 0.2, 0.0}, 0.25, {2.0, 1.5, 1.0}},
-        {{-1.0, -0.3, 0.2}, 0.35, {0.5, 1.0, 0.4}},   {{0.0, -0.5, -1.0}, 0.15, {3.0, 0.5, 0.5}},
-        {{0.2, -0.9, 0.8}, 0.45, {0.3, 0.3, 0.6}},    {{-0.5, 0.4, 1.0}, 0.2, {1.0, 2.0, 2.5}},
+        {{0.0, 1.0, 0.0}, 0.6, {0.8, 0.9, 1.2}},       {{1.0, 0.2, 0.0}, 0.25, {2.0, 1.5, 1.0}},
+        {{-1.0, -0.3, 0.2}, 0.35, {0.5, 1.0, 0.4}},    {{0.0, -0.5, -1.0}, 0.15, {3.0, 0.5, 0.5}},
+        {{0.2, -0.9, 0.8}, 0.45, {0.3, 0.3, 0.6}},     {{-0.5, 0.4, 1.0}, 0.2, {1.0, 2.0, 2.5}},
         {{0.6, 0.55, -0.6}, 0.008, {5000, 4500, 4000}}};
-    for (int j = 0; j < 7; j++) unit(truth[j].dir);
+    for (int j = 0; j < 7; j++)
+        unit(truth[j].dir);
     sl_envmap m;
     synth_map(&m, 256, 128, truth, 7);
     sl_envfit_settings s;
@@ -220,9 +232,9 @@ TEST(envfit_recovers_known_lobes) {
     CHECK(out.count == 7);
     if (getenv("SL_TEST_VERBOSE"))
         for (int k = 0; k < out.count; k++)
-            printf("  fitted %d: dir %.4f %.4f %.4f lambda %.5g rgb %.5g %.5g %.5g\n", k, out.lobe[k].dir[0],
-                   out.lobe[k].dir[1], out.lobe[k].dir[2], out.lobe[k].lambda, out.lobe[k].rgb[0],
-                   out.lobe[k].rgb[1], out.lobe[k].rgb[2]);
+            printf("  fitted %d: dir %.4f %.4f %.4f lambda %.5g rgb %.5g %.5g %.5g\n", k,
+                   out.lobe[k].dir[0], out.lobe[k].dir[1], out.lobe[k].dir[2], out.lobe[k].lambda,
+                   out.lobe[k].rgb[0], out.lobe[k].rgb[1], out.lobe[k].rgb[2]);
     /* The true lobes themselves score rel_l2 ~ 0.003 against the supersampled map (the erf pixel
      * model of the 0.3-pixel sun is good to ~1e-3 of its huge pixel value, which dominates the
      * norm); 0.02 allows the sun's width/weight trade-off inside its pixel. */
@@ -266,7 +278,8 @@ TEST(envfit_errors_match_independent_values) {
     sl_lobe lb = {{0.3, 0.4, -0.8}, 0.3, {1.0, 2.0, 0.5}};
     unit(lb.dir);
     sl_lobe big = lb;
-    for (int c = 0; c < 3; c++) big.rgb[c] *= 1.1;
+    for (int c = 0; c < 3; c++)
+        big.rgb[c] *= 1.1;
     sl_envmap m;
     synth_map(&m, 256, 128, &big, 1);
     /* Tolerance: the pixel model of the lobe vs the 8x8 supersampled average (~1e-4) and the
@@ -280,7 +293,8 @@ TEST(envfit_errors_match_independent_values) {
     synth_map(&m, 256, 128, &big, 1);
     sl_lobe dl = big;
     dl.lambda = 0;
-    for (int c = 0; c < 3; c++) dl.rgb[c] = big.rgb[c] * sl_lobe_integral(big.lambda);
+    for (int c = 0; c < 3; c++)
+        dl.rgb[c] = big.rgb[c] * sl_lobe_integral(big.lambda);
     double ce = sl_envfit_conv_rel_l2(&m, &dl, 1, 10 * M_PI / 180, 2);
     CHECK_MSG(ce > 0.001 && ce < 0.03, "directional stand-in: %.6g", ce);
     free(m.rgb);
@@ -315,7 +329,8 @@ TEST(envfit_deterministic_across_threads) {
     sl_lobe truth[2] = {{{0, 1, 0}, 0.5, {1, 1, 1}}, {{1, 0, 0}, 0.1, {5, 3, 1}}};
     sl_envmap m;
     synth_map(&m, 64, 32, truth, 2);
-    for (size_t i = 0; i < (size_t)64 * 32 * 3; i++) m.rgb[i] += (float)(0.1 * ((i * 7919) % 13) / 13.0);
+    for (size_t i = 0; i < (size_t)64 * 32 * 3; i++)
+        m.rgb[i] += (float)(0.1 * ((i * 7919) % 13) / 13.0);
     sl_envfit_settings s;
     sl_envfit_default_settings(&s);
     s.lobes = 6;

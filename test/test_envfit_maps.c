@@ -20,11 +20,13 @@ static void reduce4(sl_envmap *m) {
                 double om = cos(M_PI * yy / m->height) - cos(M_PI * (yy + 1) / m->height);
                 for (int sx = 0; sx < 4; sx++) {
                     const float *p = m->rgb + ((size_t)yy * m->width + 4 * x + sx) * 3;
-                    for (int c = 0; c < 3; c++) acc[c] += om * p[c];
+                    for (int c = 0; c < 3; c++)
+                        acc[c] += om * p[c];
                     ws += om;
                 }
             }
-            for (int c = 0; c < 3; c++) o[((size_t)y * w + x) * 3 + c] = (float)(acc[c] / ws);
+            for (int c = 0; c < 3; c++)
+                o[((size_t)y * w + x) * 3 + c] = (float)(acc[c] / ws);
         }
     free(m->rgb);
     m->rgb = o;
@@ -56,14 +58,16 @@ static void sweep(const char *rel) {
         for (int j = 0; j < out.count; j++) {
             const sl_lobe *l = &out.lobe[j];
             CHECK(isfinite(l->lambda) && l->lambda > 0);
-            for (int c = 0; c < 3; c++) CHECK(isfinite(l->dir[c]) && isfinite(l->rgb[c]) && l->rgb[c] >= 0);
+            for (int c = 0; c < 3; c++)
+                CHECK(isfinite(l->dir[c]) && isfinite(l->rgb[c]) && l->rgb[c] >= 0);
         }
         CHECK(isfinite(rep.rel_l2) && isfinite(rep.lobe_conv_rel_l2));
         /* More lobes never fit worse (each fit is independent, so this is a real check). */
-        CHECK_MSG(rep.rel_l2 <= prev, "%s: N=%d rel_l2 %.5g after %.5g", rel, ns[k], rep.rel_l2, prev);
+        CHECK_MSG(rep.rel_l2 <= prev, "%s: N=%d rel_l2 %.5g after %.5g", rel, ns[k], rep.rel_l2,
+                  prev);
         /* The convolved error follows, with 10 % slack: it is not what the fit minimises. */
-        CHECK_MSG(rep.lobe_conv_rel_l2 <= 1.1 * prev_conv, "%s: N=%d conv %.5g after %.5g", rel, ns[k],
-                  rep.lobe_conv_rel_l2, prev_conv);
+        CHECK_MSG(rep.lobe_conv_rel_l2 <= 1.1 * prev_conv, "%s: N=%d conv %.5g after %.5g", rel,
+                  ns[k], rep.lobe_conv_rel_l2, prev_conv);
         prev = rep.rel_l2;
         prev_conv = rep.lobe_conv_rel_l2;
         sl_lobes_free(&out);

@@ -16,16 +16,19 @@ static void map_fill(sl_envmap *m, int w, int h) {
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++)
             for (int c = 0; c < 3; c++)
-                m->rgb[((size_t)y * w + x) * 3 + c] = (float)(1 + 0.5 * sin(0.1 * x * (c + 1)) + (y < h / 3 ? 2 : 0));
+                m->rgb[((size_t)y * w + x) * 3 + c] =
+                    (float)(1 + 0.5 * sin(0.1 * x * (c + 1)) + (y < h / 3 ? 2 : 0));
 }
 
 /* Independent: sum of radiance x exact pixel solid angle. */
 static void map_power(const sl_envmap *m, double P[3]) {
     P[0] = P[1] = P[2] = 0;
     for (int y = 0; y < m->height; y++) {
-        double om = 2 * M_PI / m->width * (cos(M_PI * y / m->height) - cos(M_PI * (y + 1) / m->height));
+        double om =
+            2 * M_PI / m->width * (cos(M_PI * y / m->height) - cos(M_PI * (y + 1) / m->height));
         for (int x = 0; x < m->width; x++)
-            for (int c = 0; c < 3; c++) P[c] += om * m->rgb[((size_t)y * m->width + x) * 3 + c];
+            for (int c = 0; c < 3; c++)
+                P[c] += om * m->rgb[((size_t)y * m->width + x) * 3 + c];
     }
 }
 
@@ -44,14 +47,16 @@ TEST(envsample_conserves_power_and_stratifies) {
         const sl_envlight *l = &L.light[i];
         CHECK_NEAR(l->dir[0] * l->dir[0] + l->dir[1] * l->dir[1] + l->dir[2] * l->dir[2], 1, 1e-12);
         double p = l->rgb[0] + l->rgb[1] + l->rgb[2];
-        for (int c = 0; c < 3; c++) S[c] += l->rgb[c];
+        for (int c = 0; c < 3; c++)
+            S[c] += l->rgb[c];
         pmin = fmin(pmin, p);
         pmax = fmax(pmax, p);
         sa += l->solid_angle;
         if (i) CHECK(p <= L.light[i - 1].rgb[0] + L.light[i - 1].rgb[1] + L.light[i - 1].rgb[2]);
     }
     /* The regions partition the sphere and the map's power: exact up to round-off. */
-    for (int c = 0; c < 3; c++) CHECK_REL(S[c], P[c], 1e-9);
+    for (int c = 0; c < 3; c++)
+        CHECK_REL(S[c], P[c], 1e-9);
     CHECK_REL(sa, 4 * M_PI, 1e-9);
     /* Median cut with N not a power of two: regions one split apart differ by 2x, and each
      * split is at the median only to within one pixel column or row (~1.5x at 128x64). */
@@ -68,7 +73,8 @@ TEST(envsample_errors_fall_with_more_lights_and_find_the_sun) {
     map_fill(&m, 128, 64);
     /* A sun: one pixel 10^4 x the sky. */
     int sx = 40, sy = 20;
-    for (int c = 0; c < 3; c++) m.rgb[((size_t)sy * 128 + sx) * 3 + c] = 2e4f;
+    for (int c = 0; c < 3; c++)
+        m.rgb[((size_t)sy * 128 + sx) * 3 + c] = 2e4f;
     double prev = INFINITY;
     int ns[] = {16, 64, 256};
     for (int k = 0; k < 3; k++) {
@@ -81,7 +87,8 @@ TEST(envsample_errors_fall_with_more_lights_and_find_the_sun) {
         /* The most powerful light is the sun pixel, at its centre's direction. */
         double d[3];
         sl_envmap_dir(128, 64, sx, sy, d);
-        CHECK_NEAR(L.light[0].dir[0] * d[0] + L.light[0].dir[1] * d[1] + L.light[0].dir[2] * d[2], 1, 1e-9);
+        CHECK_NEAR(L.light[0].dir[0] * d[0] + L.light[0].dir[1] * d[1] + L.light[0].dir[2] * d[2],
+                   1, 1e-9);
         sl_envlights_free(&L);
     }
     free(m.rgb);
@@ -100,7 +107,8 @@ TEST(envsample_file_round_trip_and_errors) {
     CHECK(sl_envlights_load(path, &R, &e) == 0);
     CHECK(R.count == 7);
     for (int i = 0; i < 7 && R.count == 7; i++)
-        for (int c = 0; c < 3; c++) CHECK_REL(R.light[i].rgb[c], L.light[i].rgb[c], 1e-8);
+        for (int c = 0; c < 3; c++)
+            CHECK_REL(R.light[i].rgb[c], L.light[i].rgb[c], 1e-8);
     CHECK(R.record_json && strstr(R.record_json, "map_hash"));
     sl_envlights_free(&R);
     sl_envlights_free(&L);

@@ -298,7 +298,13 @@ TEST(hair_tfx_bad_inputs) {
     expect_fail(&b, "t.tfx", "8 trailing bytes");
     b.n = full;
     set_u32(&b, 4, 0x7fffffffu); /* absurd strand count */
-    expect_fail(&b, "t.tfx", "truncated: vertex positions for 2147483647 strands");
+    expect_fail(&b, "t.tfx",
+                "truncated: the header declares 2147483647 strands x 4 vertices, "
+                "more than the 536-byte file can hold");
+    set_u32(&b, 4, 30); /* 30 x 4 points: fewer than the bytes, more than the file holds */
+    expect_fail(&b, "t.tfx",
+                "truncated: vertex positions for 30 strands x 4 vertices end at byte "
+                "1736, the file has 536 bytes");
     make_tfx3(&b, 5, 4, 0);
     set_u32(&b, 8, 1);
     expect_fail(&b, "t.tfx", "1 vertices per strand, need at least 2");
@@ -319,6 +325,13 @@ TEST(hair_tfx_bad_inputs) {
     float nan = NAN;
     memcpy(b.d + 296 + 12 * 6, &nan, 4); /* strand 1 point 2 x */
     expect_fail(&b, "t.tfx", "strand 1 point 2: coordinate x is not finite");
+    make_tfx4(&b, 3, 4, 0);
+    set_u32(&b, 4, 0x40000000u); /* S = V = 2^30: 16 S V wraps to 0 in 64 bits */
+    set_u32(&b, 8, 0x40000000u);
+    expect_fail(&b, "t.tfx", "truncated: the header declares 1073741824 strands x 1073741824");
+    set_u32(&b, 16, 0); /* no strand UVs and just the header: every array check would pass */
+    b.n = 160;
+    expect_fail(&b, "t.tfx", "truncated: the header declares 1073741824 strands x 1073741824");
     make_tfx4(&b, 3, 4, 0);
     b.n = 150;
     expect_fail(&b, "t.tfx", "truncated header (150 bytes, a TressFX 4 header has 160)");

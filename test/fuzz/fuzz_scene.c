@@ -1,5 +1,6 @@
 /* fuzz_scene.c: libFuzzer target for the scene loader (JSON -> validated sl_scene). Any input
- * must either parse or fail with a message; never crash, leak or read out of bounds. */
+ * must either parse or fail with a message; never crash, leak or read out of bounds.
+ * FUZZ_SOURCES: host/scene.c host/json_util.c host/material.c host/common.c */
 #include "scene.h"
 
 #include <stdint.h>

@@ -1,0 +1,17 @@
+/* dodm.h (cpu): the C twin of kernels/dodm.cl: cumulative layers, exact 64-bit summed-area
+ * tables and the convolution-optical-depth lookup (kernels/dodm.h). */
+#ifndef SL_CPU_DODM_H
+#define SL_CPU_DODM_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Plane k of the K planes of w * h values becomes the sum of planes 0..k. */
+void slc_dodm_cumulate(uint64_t *bins, size_t plane, unsigned K);
+/* Every plane becomes its inclusive summed-area table (exact, modulo 2^64). */
+void slc_dodm_sat(uint64_t *a, int w, int h, unsigned K);
+/* T[i] = exp(-tau) at n points (u, v, z) (kernels/dodm.h: sl_dodm_tau). */
+void slc_dodm_lookup(const uint32_t *z0bits, const uint64_t *sat, int w, int h, unsigned K, float d,
+                     float rfac, float inv_scale, const float *pts, size_t n, float *T);
+
+#endif

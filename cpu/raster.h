@@ -1,0 +1,23 @@
+/* raster.h (cpu): the C twin of kernels/raster.cl (segment rasterizer, kernels/raster.h) and the
+ * builder of the segment records both consume. Maps are row-major w x h; bins are K planes. */
+#ifndef SL_CPU_RASTER_H
+#define SL_CPU_RASTER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Record of the ribbon from p0 to p1 (x, y in texels with centres at i + 0.5, z a depth >= 0) of
+ * half-width hw texels: area 2 hw |p1 - p0|_xy texel^2, times `scale` (fixed-point units per
+ * texel^2), spread over a grid of samples at most 1/2 texel apart. A ribbon with no area (a
+ * segment seen end-on, or hw = 0) gets no samples. rec has SL_RASTER_REC (12) floats. */
+void slc_raster_record(const double p0[3], const double p1[3], double hw, double scale, float *rec);
+
+/* Pass 1: z0bits[t] = the smallest depth (as uint bits) of any sample with a non-zero share in
+ * texel t, SL_RASTER_Z_EMPTY (+inf) where none. Fills z0bits itself. */
+void slc_raster_z0(const float *recs, size_t nseg, int w, int h, uint32_t *z0bits);
+/* Pass 2: bins[k * w * h + t] = the fixed-point shares landing in texel t at a depth offset
+ * (z - z0) inside layer k (kernels/raster.h: sl_raster_layer). Zeroes bins (K planes) itself. */
+void slc_raster_layers(const float *recs, size_t nseg, int w, int h, unsigned K, float d,
+                       const uint32_t *z0bits, uint64_t *bins);
+
+#endif

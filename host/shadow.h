@@ -1,0 +1,82 @@
+/* shadow.h: the light pass of self-shadowing (Ren 2010 Sec. 5; numerics.md sec. 7): for one SRBF
+ * lobe, an orthographic light view along the lobe centre, the hair rasterized into a deep opacity
+ * depth map (first depth z0 + K layers of optical depth = projected fiber area per unit area),
+ * exact summed-area tables of every layer, and the convolution-optical-depth lookup that gives
+ * the effective transmittance T_j(x) = exp(-tau) at any world point.
+ *
+ *   sl_shadow_opts o; sl_shadow_opts_default(&o);
+ *   sl_dodm m;
+ *   if (sl_shadow_build(&dev, hair, lobe_dir, lobe_lambda, &o, &m, &e)) ...;
+ *   sl_shadow_lookup(&dev, &m, n, xyz, T, &e);        // n world points -> T
+ *   sl_dodm_free(&m);
+ *
+ * Both run on the device (OpenCL kernels raster.cl, dodm.cl) or the C twins, with the usual
+ * fallback under `auto` (docs/opencl.md). docs/shadow.md has the details and measured errors. */
+#ifndef SL_SHADOW_H
+#define SL_SHADOW_H
+
+#include "clrt.h"
+#include "hair.h"
+
+#include <stdint.h>
+
+#define SL_SHADOW_DEFAULT_SIZE 512
+#define SL_SHADOW_DEFAULT_LAYERS 4
+#define SL_SHADOW_MAX_LAYERS 64
+#define SL_SHADOW_MAX_SIZE 8192
+/* SRBF support threshold (Ren 2010 Sec. 5): G(alpha) = this defines the support angle alpha. */
+#define SL_SHADOW_SUPPORT_G 1e-3
+
+typedef struct sl_shadow_opts {
+    int size;     /* map width = height in texels */
+    int layers;   /* K */
+    double kappa; /* stochastic simplification: the fraction of strands kept, (0, 1] */
+    uint32_t seed;
+} sl_shadow_opts;
+
+/* An orthographic light view: world p -> (u, v) texels = ((p - origin).ex, (p - origin).ey) /
+ * texel and depth z = (p - origin).ez (world units, ez = the direction light travels). */
+typedef struct sl_light_view {
+    double origin[3], ex[3], ey[3], ez[3];
+    double texel;
+    int w, h;
+} sl_light_view;
+
+typedef struct sl_dodm {
+    sl_light_view view;
+    unsigned K;
+    float d;         /* first layer depth: boundaries z0 + k (k + 1) d / 2 */
+    float rfac;      /* tan(alpha) / (2 texel): box half-size in texels per unit depth below z0 */
+    float inv_scale; /* fixed point -> optical depth */
+    double scale;
+    uint32_t *z0bits;          /* w * h */
+    uint64_t *sat;             /* K * w * h */
+    size_t segments, samples;  /* rasterized (after simplification) */
+    double raster_s, tables_s; /* device or C time of the two steps */
+} sl_dodm;
+
+void sl_shadow_opts_default(sl_shadow_opts *o);
+
+/* Support angle alpha of G(omega; xi, lambda) = exp(2 (cos - 1) / lambda^2): G(alpha) =
+ * SL_SHADOW_SUPPORT_G; pi when the lobe is wider than that everywhere. */
+double sl_shadow_support_angle(double lambda);
+
+/* The view along light direction -dir (dir points toward the light) that covers the bounding
+ * sphere of [lo, hi] grown by margin (world units), size x size texels. */
+void sl_light_view_setup(sl_light_view *v, const double dir[3], const float lo[3],
+                         const float hi[3], double margin, int size);
+void sl_light_view_project(const sl_light_view *v, const double p[3], double uvz[3]);
+
+/* Strand kept by stochastic simplification (Ren 2010 Sec. 7): a fixed random value per strand
+ * from seed, kept when it is below kappa. */
+int sl_shadow_strand_kept(uint32_t strand, uint32_t seed, double kappa);
+
+/* Light pass for one lobe (dir: unit vector toward the light, lambda: its bandwidth). */
+int sl_shadow_build(sl_device *dev, const sl_hair *h, const double dir[3], double lambda,
+                    const sl_shadow_opts *o, sl_dodm *m, sl_err *e);
+/* T at n world points (xyz: 3 n doubles). */
+int sl_shadow_lookup(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz, double *T,
+                     sl_err *e);
+void sl_dodm_free(sl_dodm *m);
+
+#endif

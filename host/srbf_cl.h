@@ -1,0 +1,18 @@
+/* srbf_cl.h: OpenCL batch driver for the SRBF response (kernels/srbf_eval.cl); the same row
+ * shapes as the C twin (cpu/srbf_c.h). Uploads the rows and the tables, runs one work-item per
+ * row, reads the results back (blocking). Returns 0, -1 (e set) or SL_CL_EKERNEL. */
+#ifndef SL_SRBF_CL_H
+#define SL_SRBF_CL_H
+
+#include <stddef.h>
+
+#include "clrt.h"
+#include "fiber_params.h"
+#include "srbf_tables.h"
+
+/* in: 5 floats per row (theta_o, phi_o, theta_j, phi_j, lambda); out: I_R, I_TT, I_TRT, I.
+ * method: SL_SRBF_METHOD_XU or _FAST (cpu/srbf_c.h); segments 1..8. */
+int slcl_srbf_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *t, int method,
+                    int segments, size_t n, const float *in, float *out, sl_err *e);
+
+#endif

@@ -1,0 +1,75 @@
+# test_transmittance.sh: `strandlight eval transmittance --scene S.json` (numerics.md sec. 5, 7;
+# docs/shadow.md) on the analytic slab: 1200 straight fibers of radius 0.005 along x at random
+# (y, z) in [-2, 2] x [-1, 0] (n = 300 per unit area, written here as a .hair file by python3),
+# lit by one narrow lobe from +z: T = exp(-2 r n d) = exp(-3 d) at depth d (Beer-Lambert). One
+# random slab: its local fiber count fluctuates by ~6 % of tau (0.02 in T), so the mean over 60
+# points is checked within 0.07 for the reference. The DODM path (512^2 map) is biased high by
+# its per-texel first depth z0: in this sparse slab a texel's first fiber lies ~1 / (n * 0.03)
+# = 0.1 below the top, so tau is low by ~0.3 (measured: T 0.52 vs 0.41 at d = 0.3, 0.19 vs
+# 0.12 at d = 0.7; docs/shadow.md "Status" has the planned fix): tolerance 0.14 there, which
+# still fails a DODM without shadowing (T = 1) or without the depth layers (T = exp(-3)).
+# Plus the error paths.
+. test/cli/lib.sh
+D="$TMP/transmittance"
+mkdir -p "$D"
+if [ -z "${PY:-}" ]; then
+    if [ -x /usr/bin/python3 ]; then PY=/usr/bin/python3; else PY=python3; fi
+fi
+if ! command -v "$PY" >/dev/null 2>&1; then skip transmittance "no python3"; exit 0; fi
+
+"$PY" - "$D" <<'PYEOF'
+import random, struct, sys, math
+d = sys.argv[1]
+random.seed(5)
+nf, r = 1200, 0.005
+with open(d + "/slab.hair", "wb") as f:
+    hdr = b"HAIR" + struct.pack("<IIII", nf, 2 * nf, 2, 1) + struct.pack("<ff", 2 * r, 0.0)
+    hdr += struct.pack("<fff", 0.5, 0.5, 0.5)
+    f.write(hdr + b"\0" * (128 - len(hdr)))
+    for i in range(nf):
+        y, z = random.uniform(-2, 2), random.uniform(-1, 0)
+        f.write(struct.pack("<6f", -2, y, z, 2, y, z))
+open(d + "/lobes.json", "w").write('{"lobes": [{"dir": [0, 0, 1], "lambda": 0.05, "rgb": [1, 1, 1]}]}\n')
+open(d + "/scene.json", "w").write('{"hair": {"file": "slab.hair"}, "environment": {"lobes": "lobes.json"}}\n')
+open(d + "/nolobes.json", "w").write('{"hair": {"file": "slab.hair"}, "environment": {"file": "missing.hdr"}}\n')
+random.seed(9)
+with open(d + "/in.csv", "w") as f:
+    f.write("x,y,z,lobe,tag\n")
+    for depth in (0.3, 0.7):
+        for i in range(60):
+            f.write("%.6f,%.6f,%.6f,0,d%.1f\n" % (random.uniform(-1.5, 1.5), random.uniform(-1.5, 1.5), -depth, depth))
+open(d + "/bad_lobe.csv", "w").write("x,y,z,lobe\n0,0,-0.5,0\n0,0,-0.5,3\n")
+PYEOF
+
+# check NAME BACKEND TOL: the per-depth means of T against exp(-3 d).
+check() {
+    local name=$1 backend=$2 tol=$3 out
+    if ! out=$("$SL" eval transmittance --scene "$D/scene.json" --backend "$backend" < "$D/in.csv" 2>"$D/err"); then
+        fail "$name" "exit status $?: $(cat "$D/err")"; return
+    fi
+    local msg
+    msg=$(printf '%s\n' "$out" | "$PY" -c '
+import sys, math
+rows = [l.strip().split(",") for l in sys.stdin][1:]
+bad = []
+for depth in (0.3, 0.7):
+    t = [float(r[5]) for r in rows if r[4] == "d%.1f" % depth]
+    m = sum(t) / len(t)
+    ex = math.exp(-3 * depth)
+    print("  %s d=%.1f: mean T %.4f exact %.4f" % (sys.argv[1], depth, m, ex), file=sys.stderr)
+    if len(t) != 60 or not abs(m - ex) <= float(sys.argv[2]): bad.append("d=%.1f: %.4f vs %.4f" % (depth, m, ex))
+print("; ".join(bad))' "$backend" "$tol")
+    if [ -n "$msg" ]; then fail "$name" "$msg"; else pass "$name"; fi
+}
+check transmittance_slab_reference reference 0.07
+check transmittance_slab_c c 0.14
+if "$SL" devices 2>/dev/null | grep -q 'PoCL\|GPU'; then
+    check transmittance_slab_opencl opencl 0.14
+else
+    skip transmittance_slab_opencl "no OpenCL device"
+fi
+
+expect_error transmittance_needs_scene "needs --scene" "$SL" eval transmittance --backend c < "$D/in.csv"
+expect_error transmittance_needs_lobes "environment.lobes" "$SL" eval transmittance --scene "$D/nolobes.json" < "$D/in.csv"
+expect_error transmittance_lobe_range "<stdin>:3: lobe: 3 is out of range" "$SL" eval transmittance --scene "$D/scene.json" < "$D/bad_lobe.csv"
+expect_output transmittance_header_only "x,y,z,lobe,T" "$SL" eval transmittance --scene "$D/scene.json" < <(echo "x,y,z,lobe")
