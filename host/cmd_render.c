@@ -10,6 +10,7 @@
 #include "lights.h"
 #include "render_preview.h"
 #include "scene.h"
+#include "scene_hair.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -31,28 +32,6 @@ static const char *usage_text =
     "against the SRBF lobes taken as directional lights, without self-shadowing or multiple\n"
     "scattering. With only environment.file, quality.lobes lobes are fitted and cached.\n";
 
-static int load_hair(const sl_scene *s, sl_hair *h, sl_err *e) {
-    if (s->hair_procedural) {
-        sl_hair_procedural p = {s->proc_style, s->proc_strands, s->proc_points, s->proc_seed};
-        if (sl_hair_generate(&p, h, e)) return -1;
-    } else {
-        if (sl_hair_load(s->hair_file, h, e)) return -1;
-        if (s->up_z) sl_hair_z_up_to_y_up(h);
-        /* tfx_follow densifies TressFX guides; a .tfxproj already brought its own followers. */
-        if (s->has_follow && s->follow_per_guide > 0 && !h->follow_added &&
-            strncmp(h->format, "TressFX", 7) == 0) {
-            sl_hair_follow f = {s->follow_per_guide, (float)s->follow_root_radius,
-                                (float)s->follow_tip_spread, 1};
-            if (sl_hair_add_follow(h, &f, e)) return -1;
-        }
-    }
-    if (s->radius > 0) {
-        free(h->radius);
-        h->radius = NULL;
-        h->default_radius = (float)s->radius;
-    }
-    return 0;
-}
 
 static int write_outputs(const sl_frame *f, const char *exr, const char *png, int use_float,
                          sl_err *e) {
@@ -112,7 +91,7 @@ int cmd_render(int argc, char **argv) {
     if (width) s->width = (int)width;
     if (height) s->height = (int)height;
     if (sl_device_open(device, &dev, &e)) goto done;
-    if (load_hair(s, &h, &e)) goto done;
+    if (sl_scene_load_hair(s, &h, &e)) goto done;
     if (sl_scene_lobes(s, clamp_nonfinite, &lobes, &e)) goto done;
     sl_lobes_transform(&lobes, s->env_rotation_deg, s->env_intensity);
     if (sl_lights_from_lobes(&lobes, &lights, &e)) goto done;

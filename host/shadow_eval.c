@@ -3,7 +3,9 @@
  * or the light pass (shadow.h) on the C twin or the OpenCL kernels, one light pass per lobe. */
 #include "shadow_eval.h"
 
-#include "lobes_json.h"
+#include "scene_hair.h"
+
+#include "env_lighting.h"
 #include "scene.h"
 #include "shadow.h"
 #include "transmittance_ref.h"
@@ -11,31 +13,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* The scene's hair as the renderer loads it (cmd_render.c's load_hair). */
-static int load_hair(const sl_scene *s, sl_hair *h, sl_err *e) {
-    if (s->hair_procedural) {
-        sl_hair_procedural p = {s->proc_style, s->proc_strands, s->proc_points, s->proc_seed};
-        if (sl_hair_generate(&p, h, e)) return -1;
-    } else {
-        if (sl_hair_load(s->hair_file, h, e)) return -1;
-        if (s->up_z) sl_hair_z_up_to_y_up(h);
-        if (s->has_follow && s->follow_per_guide > 0) {
-            sl_hair_follow f = {s->follow_per_guide, (float)s->follow_root_radius,
-                                (float)s->follow_tip_spread, 1};
-            if (sl_hair_add_follow(h, &f, e)) {
-                sl_hair_free(h);
-                return -1;
-            }
-        }
-    }
-    if (s->radius > 0) {
-        free(h->radius);
-        h->radius = NULL;
-        h->default_radius = (float)s->radius;
-    }
-    return 0;
-}
 
 int sl_shadow_eval_transmittance(const char *scene_path, sl_eval_backend b, sl_cl *cl, size_t n,
                                  const double *in, const long *line_no, double *out, sl_err *e) {
@@ -46,15 +23,10 @@ int sl_shadow_eval_transmittance(const char *scene_path, sl_eval_backend b, sl_c
     memset(&lobes, 0, sizeof lobes);
     int rc = -1;
     if (sl_scene_load(scene_path, s, e)) goto done;
-    if (!s->env_lobes[0]) {
-        sl_fail(e,
-                "%s: environment.lobes: transmittance needs the scene's SRBF lobes (a lobes file "
-                "from `strandlight fit`); fitting environment.file on the fly is not available "
-                "here",
-                scene_path);
-        goto done;
-    }
-    if (sl_lobes_load(s->env_lobes, &lobes, e)) goto done;
+    /* environment.lobes, or quality.lobes lobes fitted to environment.file (cached); the lobe
+     * directions turned by environment.rotation_deg as the renderer turns them. */
+    if (sl_scene_lobes(s, 0, &lobes, e)) goto done;
+    sl_lobes_transform(&lobes, s->env_rotation_deg, 1.0);
     for (size_t i = 0; i < n; i++)
         if (in[4 * i + 3] >= lobes.count) {
             sl_fail(e, "<stdin>:%ld: lobe: %.0f is out of range (the scene has %d lobes, 0..%d)",
@@ -62,7 +34,7 @@ int sl_shadow_eval_transmittance(const char *scene_path, sl_eval_backend b, sl_c
                     lobes.count - 1);
             goto done;
         }
-    if (load_hair(s, &h, e)) goto done;
+    if (sl_scene_load_hair(s, &h, e)) goto done;
     if (n == 0) {
         rc = 0;
         goto done;

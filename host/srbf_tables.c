@@ -243,8 +243,7 @@ static int try_load(sl_srbf_tables *t, const char *path, uint64_t key) {
         memcpy(t->H, d + sizeof h + SL_SRBF_C_FLOATS * sizeof(float),
                SL_SRBF_H_FLOATS * sizeof(float));
         ok = data_sum(t) == h.sum;
-        if (!ok)
-            sl_srbf_tables_free(t);
+        if (!ok) sl_srbf_tables_free(t);
     }
     free(d);
     if (!ok) return -1;
@@ -298,8 +297,7 @@ int sl_srbf_tables_get(sl_srbf_tables *t, int verbose, sl_err *e) {
         sl_note("srbf tables built: C_k %dx%d in %.2f s (max interpolation error %.2g), H_k "
                 "2x2x%dx%d in %.2f s (max error %.2g of max H_0)%s%s",
                 SL_SRBF_NL, SL_SRBF_NPHI, t->build_s_C, t->err_C, SL_SRBF_NETA, SL_SRBF_NTD,
-                t->build_s_H, t->err_H, t->path[0] ? "; cached in " : "; not cached",
-                t->path);
+                t->build_s_H, t->err_H, t->path[0] ? "; cached in " : "; not cached", t->path);
     if (t->path[0]) save(t, t->path, key);
     return 0;
 }
@@ -309,8 +307,9 @@ int sl_srbf_tables_get(sl_srbf_tables *t, int verbose, sl_err *e) {
 int sl_srbf_eval(sl_cl *cl, const sl_material *m, int ch, int xu, int segments, size_t n,
                  const float *in, float *out, sl_err *e) {
     if (m->model == SL_MODEL_DEON)
-        return sl_fail(e, "eval: srbf --method %s is not implemented yet for model deon (use "
-                          "--backend reference --method exact)",
+        return sl_fail(e,
+                       "eval: srbf --method %s is not implemented yet for model deon (use "
+                       "--backend reference --method exact)",
                        xu ? "xu" : "fast");
     if (segments == 0) segments = 4;
     if (segments < 1 || segments > SL_SRBF_MAX_SEGMENTS)

@@ -16,14 +16,14 @@
 typedef struct sl_cl sl_cl;
 
 typedef struct sl_srbf_tables {
-    float *C;             /* SL_SRBF_C_FLOATS */
-    float *H;             /* SL_SRBF_H_FLOATS */
-    double build_s_C;     /* seconds it took to build each table (as stored in the cache) */
+    float *C;         /* SL_SRBF_C_FLOATS */
+    float *H;         /* SL_SRBF_H_FLOATS */
+    double build_s_C; /* seconds it took to build each table (as stored in the cache) */
     double build_s_H;
-    double err_C;         /* max |bilinear - exact| at cell centres (C_k normalised, <= 1) */
-    double err_H;         /* the same for H_k, relative to max H_0 */
-    int from_cache;       /* 1: loaded from the disk cache */
-    char path[4096];      /* the cache file ("" when there is no cache directory) */
+    double err_C;    /* max |bilinear - exact| at cell centres (C_k normalised, <= 1) */
+    double err_H;    /* the same for H_k, relative to max H_0 */
+    int from_cache;  /* 1: loaded from the disk cache */
+    char path[4096]; /* the cache file ("" when there is no cache directory) */
 } sl_srbf_tables;
 
 /* Builds the tables in memory (about a second). */

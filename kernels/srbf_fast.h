@@ -28,18 +28,16 @@ static __constant float sl_srbf_glw6[6] = {0.171324492379170f, 0.360761573048139
                                            0.467913934572691f, 0.467913934572691f,
                                            0.360761573048139f, 0.171324492379170f};
 #else
-static const float sl_srbf_glx6[6] = {-0.932469514203152f, -0.661209386466265f,
-                                      -0.238619186083197f, 0.238619186083197f,
-                                      0.661209386466265f,  0.932469514203152f};
-static const float sl_srbf_glw6[6] = {0.171324492379170f, 0.360761573048139f,
-                                      0.467913934572691f, 0.467913934572691f,
-                                      0.360761573048139f, 0.171324492379170f};
+static const float sl_srbf_glx6[6] = {-0.932469514203152f, -0.661209386466265f, -0.238619186083197f,
+                                      0.238619186083197f,  0.661209386466265f,  0.932469514203152f};
+static const float sl_srbf_glw6[6] = {0.171324492379170f, 0.360761573048139f, 0.467913934572691f,
+                                      0.467913934572691f, 0.360761573048139f, 0.171324492379170f};
 #endif
 
 /* cos^2 ti / cos^2 td N'_t at node ti with exact normalisations (see the header comment). */
 SL_INLINE float sl_srbf_fast_node(const sl_fiber_params *fp, SL_GLOBAL const float *C,
-                                  SL_GLOBAL const float *H, float theta_o, float phi_o,
-                                  float phi_j, float cos_tj, float lambda, float ti, int t) {
+                                  SL_GLOBAL const float *H, float theta_o, float phi_o, float phi_j,
+                                  float cos_tj, float lambda, float ti, int t) {
     float cti = cos(ti);
     if (!(cti > 1e-7f)) return 0.0f;
     float td = 0.5f * (theta_o - ti);
@@ -82,7 +80,7 @@ SL_INLINE float sl_srbf_fast_node(const sl_fiber_params *fp, SL_GLOBAL const flo
         if (!(ratio > 0.0f)) return 0.0f;
         ratio = sl_minf(ratio, 0.999f);
         float l = ratio * 2.0f * SL_SQRT_PI_F; /* start: sqrt(pi) l = 2 pi ratio */
-        for (int it = 0; it < 6; it++) { /* fixed point on 2 pi i0e(2/l^2) = 2 pi ratio */
+        for (int it = 0; it < 6; it++) {       /* fixed point on 2 pi i0e(2/l^2) = 2 pi ratio */
             float f = sl_mq_i0e(2.0f / (l * l));
             l *= ratio / sl_maxf(f, 1e-30f) > 0.0f ? sqrt(ratio / sl_maxf(f, 1e-30f)) : 1.0f;
         }
@@ -111,7 +109,8 @@ SL_INLINE void sl_srbf_fast(const sl_fiber_params *fp, SL_GLOBAL const float *C,
         float l2 = lambda * lambda;
         float mu = (theta_j * w2 + mu_m * l2) / (w2 + l2);
         float s = sqrt(0.5f * l2 * w2 / (l2 + w2)); /* std of the product */
-        float lo = sl_maxf(mu - 3.5f * s, -0.5f * SL_PI_F), hi = sl_minf(mu + 3.5f * s, 0.5f * SL_PI_F);
+        float lo = sl_maxf(mu - 3.5f * s, -0.5f * SL_PI_F),
+              hi = sl_minf(mu + 3.5f * s, 0.5f * SL_PI_F);
         float acc = 0.0f;
         if (hi > lo) {
             float c = 0.5f * (lo + hi), h = 0.5f * (hi - lo);

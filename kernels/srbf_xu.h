@@ -14,10 +14,10 @@
 #include "fiber_marschner.h"
 
 /* ---- table layout (host/srbf_tables.c fills them; docs/srbf.md) ---- */
-#define SL_SRBF_NL 128    /* lambda' samples, log-uniform in [SL_SRBF_LMIN, SL_SRBF_LMAX] */
-#define SL_SRBF_NPHI 64   /* |phi| samples, uniform in [0, pi] */
-#define SL_SRBF_NETA 128  /* eta samples, log-uniform in [1, 10] */
-#define SL_SRBF_NTD 64    /* |theta_d| samples, uniform in [0, pi/2] */
+#define SL_SRBF_NL 128   /* lambda' samples, log-uniform in [SL_SRBF_LMIN, SL_SRBF_LMAX] */
+#define SL_SRBF_NPHI 64  /* |phi| samples, uniform in [0, pi] */
+#define SL_SRBF_NETA 128 /* eta samples, log-uniform in [1, 10] */
+#define SL_SRBF_NTD 64   /* |theta_d| samples, uniform in [0, pi/2] */
 #define SL_SRBF_LMIN 0.001f
 #define SL_SRBF_LMAX 10.0f
 #define SL_SRBF_ETAMIN 1.0f
@@ -66,8 +66,8 @@ SL_INLINE void sl_srbf_C(SL_GLOBAL const float *C, float lam, float phi, float o
 SL_INLINE void sl_srbf_H(SL_GLOBAL const float *H, int schlick, int mode, float eta, float td,
                          float out[3]) {
     int ie, it;
-    float fe = sl_srbf_grid(log(sl_maxf(eta, 1e-30f)), 0.0f, log(SL_SRBF_ETAMAX), SL_SRBF_NETA,
-                            &ie);
+    float fe =
+        sl_srbf_grid(log(sl_maxf(eta, 1e-30f)), 0.0f, log(SL_SRBF_ETAMAX), SL_SRBF_NETA, &ie);
     float ft = sl_srbf_grid(fabs(td), 0.0f, 0.5f * SL_PI_F, SL_SRBF_NTD, &it);
     SL_GLOBAL const float *base = H + (schlick * 2 + mode) * SL_SRBF_NETA * SL_SRBF_NTD * 4;
     SL_GLOBAL const float *h00 = base + (ie * SL_SRBF_NTD + it) * 4;
@@ -109,10 +109,10 @@ SL_INLINE float sl_srbf_erf_as(float x) {
 /* ---- the azimuthal closed forms at one theta_i (Xu 4.2.1-4.2.5) ---- */
 
 typedef struct sl_srbf_az {
-    float phi;      /* phi_o - phi_j, wrapped */
-    float phi_sum;  /* phi_o + phi_j, wrapped (eccentricity) */
-    float lam_p;    /* lambda' */
-    float z;        /* int g^c(x; 0, lambda') dx = 2 pi i0e(2 / lambda'^2) */
+    float phi;     /* phi_o - phi_j, wrapped */
+    float phi_sum; /* phi_o + phi_j, wrapped (eccentricity) */
+    float lam_p;   /* lambda' */
+    float z;       /* int g^c(x; 0, lambda') dx = 2 pi i0e(2 / lambda'^2) */
 } sl_srbf_az;
 
 /* N'_R (Eq. 13-14): N_R = 1/4 |cos(phi/2)| F_schlick(cos theta_d |cos(phi/2)|) expanded in
@@ -256,9 +256,9 @@ SL_INLINE float sl_srbf_xu_node(const sl_fiber_params *fp, SL_GLOBAL const float
 SL_INLINE float sl_srbf_lin_seg(float x0, float x1, float f0, float f1, float mu, float l) {
     if (!(x1 > x0)) return 0.0f;
     float e0 = sl_srbf_erf_as((x0 - mu) / l), e1 = sl_srbf_erf_as((x1 - mu) / l);
-    float gi = 0.5f * SL_SQRT_PI_F * l * (e1 - e0);               /* int g */
+    float gi = 0.5f * SL_SQRT_PI_F * l * (e1 - e0); /* int g */
     float z0 = (x0 - mu) / l, z1 = (x1 - mu) / l;
-    float xg = -0.5f * l * l * (exp(-z1 * z1) - exp(-z0 * z0));   /* int (x - mu) g */
+    float xg = -0.5f * l * l * (exp(-z1 * z1) - exp(-z0 * z0)); /* int (x - mu) g */
     float slope = (f1 - f0) / (x1 - x0);
     return f0 * gi + slope * (xg + (mu - x0) * gi);
 }

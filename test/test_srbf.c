@@ -204,7 +204,8 @@ TEST(srbf_tables_interpolation) {
     }
     float h[3];
     sl_srbf_H(t.H, 0, 1, 1.55f, 0.4f, h);
-    CHECK_NEAR(h[0], sl_srbf_H_exact(0, 1, 0, 1.55, 0.4), 1e-3 * sl_srbf_H_exact(0, 1, 0, 1.55, 0.4));
+    CHECK_NEAR(h[0], sl_srbf_H_exact(0, 1, 0, 1.55, 0.4),
+               1e-3 * sl_srbf_H_exact(0, 1, 0, 1.55, 0.4));
     sl_srbf_tables_free(&t);
 }
 
@@ -221,8 +222,9 @@ TEST(srbf_xu_vs_exact) {
     sl_material_default(&m);
     sl_fiber_params fp;
     sl_material_to_fiber(&m, 0, &fp);
-    const float rows[3][5] = {
-        {0.3f, 0.5f, 0.2f, 0.4f, 0.5f}, {0.1f, 0.2f, -0.3f, 2.9f, 0.5f}, {-0.4f, 1.0f, 0.3f, 0.1f, 0.6f}};
+    const float rows[3][5] = {{0.3f, 0.5f, 0.2f, 0.4f, 0.5f},
+                              {0.1f, 0.2f, -0.3f, 2.9f, 0.5f},
+                              {-0.4f, 1.0f, 0.3f, 0.1f, 0.6f}};
     float o1[12], o4[12];
     slc_srbf_batch(&fp, t.C, t.H, SL_SRBF_METHOD_XU, 1, 3, &rows[0][0], o1);
     slc_srbf_batch(&fp, t.C, t.H, SL_SRBF_METHOD_XU, 4, 3, &rows[0][0], o4);

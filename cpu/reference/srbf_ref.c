@@ -13,8 +13,8 @@
  *    singularities), integrated in u = asin h with breakpoints at the preimages of the lobe;
  *  - marschner TRT (round fiber): N_TRT = 1/2 int A(h) g_w(phi - Phi(2,h)) dh / Z, and the
  *    azimuthal product of the two circular Gaussians integrates in closed form:
- *    int exp(kappa (cos(x - phi_j) - 1) + k_w (cos(c - x) - 1)) dx = 2 pi i0e(R) e^(R - kappa - k_w),
- *    R = |kappa e^(i phi_j) + k_w e^(i c)|, k_w = 2 / w_c^2;
+ *    int exp(kappa (cos(x - phi_j) - 1) + k_w (cos(c - x) - 1)) dx = 2 pi i0e(R) e^(R - kappa -
+ * k_w), R = |kappa e^(i phi_j) + k_w e^(i c)|, k_w = 2 / w_c^2;
  *  - marschner TRT with eccentricity (eta* varies with phi_i) and every d'Eon order: brute force
  *    int G_ph(phi_i) N_t(phi_o - phi_i) d phi_i over one period centred on the lobe, with the
  *    reference N_t of marschner_ref.c / deon_ref.c; d'Eon's rest term has a uniform azimuth:
@@ -115,8 +115,7 @@ static int cmp_dbl(const void *x, const void *y) {
  * every component k has summed error <= max(rel |I_k|, abs_tol[k]) or max_iv intervals exist.
  * Bisects the interval with the largest error relative to its component's tolerance. */
 static void vq_integrate(vq_fn f, void *ctx, int n, double a, double b, const double *pts,
-                         size_t npts, double rel, const double *abs_tol, int max_iv,
-                         double *res) {
+                         size_t npts, double rel, const double *abs_tol, int max_iv, double *res) {
     for (int k = 0; k < n; k++)
         res[k] = 0.0;
     if (!(b > a)) return;
@@ -219,9 +218,9 @@ typedef struct srbf_ctx {
     double cos_tj, inv_l2;
     /* per theta_i (inner integrals) */
     double theta_i, theta_d, kappa;
-    int t;          /* marschner mode of the inner integral */
-    double etap;    /* eta' of that mode */
-    double kw, inv_z; /* TRT: 2 / w_c^2 and 1 / (2 pi i0e(k_w)) */
+    int t;                       /* marschner mode of the inner integral */
+    double etap;                 /* eta' of that mode */
+    double kw, inv_z;            /* TRT: 2 / w_c^2 and 1 / (2 pi i0e(k_w)) */
     const unsigned char *active; /* d'Eon: orders whose M_p is not negligible */
     int p;                       /* d'Eon: order of the inner integral */
     const double *coef;          /* d'Eon: Fourier coefficients of K_d (see kd_coefs) */
@@ -435,7 +434,8 @@ static void outer(double ti, void *vc, double *out) {
         double scale = TWO_PI * slref_i0e(c.kappa);
         for (int p = 0; p <= no; p++) {
             int q = p < 2 ? p : 2;
-            double lm = slref_deon_log_mp(m->beta[q] * m->beta[q], ti, c.theta_o - 2.0 * m->alpha[q]);
+            double lm =
+                slref_deon_log_mp(m->beta[q] * m->beta[q], ti, c.theta_o - 2.0 * m->alpha[q]);
             double mp = lm > -700.0 ? exp(lm) : 0.0;
             if (!(mp * gth > 1e-300)) continue;
             c.p = p;

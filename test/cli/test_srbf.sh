@@ -60,3 +60,21 @@ l = i[4]; g = math.pi * l * l * (1 - math.exp(-4 / l / l))
 sys.exit(0 if abs(i[8] / g - f[7]) <= 3e-3 * f[7] else 1)' "$i" "$f"; then
     pass srbf_narrow_limit
 else fail srbf_narrow_limit "srbf $i scatter $f"; fi
+
+# C twin against the OpenCL kernel (same header; float rounding only: 1e-4 relative of I).
+for meth in xu fast; do
+    if ! oc=$("$SL" eval srbf --backend opencl --device pocl --method $meth < "$D/in.csv" 2>/dev/null); then
+        skip "srbf_c_vs_opencl_$meth" "no PoCL device"; continue
+    fi
+    cc=$("$SL" eval srbf --backend c --method $meth < "$D/in.csv")
+    if "$PY" -c '
+import sys
+a = [l.split(",") for l in sys.argv[1].split("\n")[1:] if l]
+b = [l.split(",") for l in sys.argv[2].split("\n")[1:] if l]
+ok = len(a) == len(b) == 3
+for x, y in zip(a, b):
+    t = float(x[8])
+    ok = ok and all(abs(float(p) - float(q)) <= 1e-4 * t + 1e-30 for p, q in zip(x[5:], y[5:]))
+sys.exit(0 if ok else 1)' "$cc" "$oc"; then pass "srbf_c_vs_opencl_$meth"
+    else fail "srbf_c_vs_opencl_$meth" "c: $cc opencl: $oc"; fi
+done

@@ -70,6 +70,6 @@ else
 fi
 
 expect_error transmittance_needs_scene "needs --scene" "$SL" eval transmittance --backend c < "$D/in.csv"
-expect_error transmittance_needs_lobes "environment.lobes" "$SL" eval transmittance --scene "$D/nolobes.json" < "$D/in.csv"
+expect_error transmittance_missing_map "missing.hdr: No such file" "$SL" eval transmittance --scene "$D/nolobes.json" < "$D/in.csv"
 expect_error transmittance_lobe_range "<stdin>:3: lobe: 3 is out of range" "$SL" eval transmittance --scene "$D/scene.json" < "$D/bad_lobe.csv"
 expect_output transmittance_header_only "x,y,z,lobe,T" "$SL" eval transmittance --scene "$D/scene.json" < <(echo "x,y,z,lobe")
