@@ -19,6 +19,8 @@ static const command commands[] = {
     {"kernels", cmd_kernels, "run each OpenCL kernel against its C twin"},
     {"fit", cmd_fit, "fit SRBF lobes to an environment map"},
     {"sample", cmd_sample, "directional lights sampled from an environment map"},
+    {"reference", cmd_reference, "brute-force reference render (ray-traced fibers)"},
+    {"report", cmd_report, "error against run time (kernels, scenes)"},
 };
 #define NUM_COMMANDS (sizeof commands / sizeof commands[0])
 
