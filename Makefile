@@ -13,7 +13,7 @@ CPPFLAGS += -Ihost -Ikernels -Icpu -Icpu/reference -I/usr/include/OpenEXR \
 CFLAGS += -std=c11 $(OPT) -g -Wall -Wextra $(WERROR) -MMD -MP $(SAN)
 CXXFLAGS += -std=c++17 $(OPT) -g -Wall -Wextra $(WERROR) -MMD -MP $(SAN) \
             -I/usr/include/Imath -I/usr/include/OpenEXR -Ihost
-LDLIBS += -lOpenCL -lOpenEXR-3_1 -lOpenEXRCore-3_1 -lIex-3_1 -lImath-3_1 -lcjson -lstb \
+LDLIBS += -lOpenCL -lOpenEXR-3_1 -lOpenEXRCore-3_1 -lIex-3_1 -lImath-3_1 -lcjson -lstb -lembree3 \
           -lstdc++ -lpthread -lm
 LDFLAGS += $(SAN)
 
@@ -65,8 +65,13 @@ asan:
 bench: all
 	bash test/bench.sh $(BUILD)
 
+# Builds every libFuzzer target (build-fuzz/); with FUZZ_SECONDS=N also runs each for N s on a
+# copy of its seed corpus (test/cli/test_fuzz.sh) and fails when any target finds a crash.
 fuzz:
 	bash test/fuzz/build.sh
+	@if [ -n "$(FUZZ_SECONDS)" ]; then mkdir -p build-fuzz/run && \
+	  FUZZ_BUILD=build-fuzz FUZZ_SECONDS=$(FUZZ_SECONDS) TMP=build-fuzz/run bash test/cli/test_fuzz.sh \
+	    | tee build-fuzz/run/fuzz.log && ! grep -q '^FAIL' build-fuzz/run/fuzz.log; fi
 
 format:
 	clang-format -i host/*.c host/*.h host/*.cpp cpu/*.c cpu/*.h cpu/reference/*.c cpu/reference/*.h kernels/*.h kernels/*.cl test/*.c test/*.h 2>/dev/null || true

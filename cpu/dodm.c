@@ -29,3 +29,19 @@ void slc_dodm_lookup(const uint32_t *z0bits, const uint64_t *sat, int w, int h, 
         T[i] = expf(-sl_dodm_tau(z0bits, sat, w, h, K, d, rfac, inv_scale, pts[3 * i],
                                  pts[3 * i + 1], pts[3 * i + 2]));
 }
+
+void slc_dodm_lookup_lobes(const uint32_t *z0bits, const uint64_t *sat, int w, int h, unsigned K,
+                           const float *params, const float *views, const float *pts,
+                           const uint32_t *lobe, size_t n, unsigned nl, unsigned lobe0,
+                           size_t stride, float *T) {
+    for (size_t i = 0; i < n; i++) {
+        if (lobe) {
+            if (lobe[i] < lobe0 || lobe[i] - lobe0 >= nl) continue;
+            T[i] = expf(-sl_dodm_tau_lobe(z0bits, sat, w, h, K, params, views, lobe[i] - lobe0,
+                                          pts + 3 * i));
+        } else
+            for (unsigned l = 0; l < nl; l++)
+                T[i * stride + lobe0 + l] =
+                    expf(-sl_dodm_tau_lobe(z0bits, sat, w, h, K, params, views, l, pts + 3 * i));
+    }
+}

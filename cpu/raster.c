@@ -7,13 +7,11 @@
 #include <math.h>
 #include <string.h>
 
-/* Samples at most this far apart (texels) along and across a ribbon: the tent filter then
- * reconstructs a uniform line density with a ripple below 1 % of the texel value. */
+/* The double-precision twin of sl_raster_record_f (kernels/raster.h: spacing and caps), for
+ * callers that project on the host (tests, a future view pass). */
 #define SAMPLE_SPACING 0.5
-/* Caps keep one record's work bounded (a ribbon wider or longer than the map); mass is still
- * conserved, only the sampling gets coarser. */
-#define MAX_ALONG 65536.0
-#define MAX_ACROSS 4096.0
+#define MAX_ALONG ((double)SL_RASTER_MAX_ALONG)
+#define MAX_ACROSS ((double)SL_RASTER_MAX_ACROSS)
 
 void slc_raster_record(const double p0[3], const double p1[3], double hw, double scale,
                        float *rec) {
@@ -101,4 +99,21 @@ void slc_raster_layers(const float *recs, size_t nseg, int w, int h, unsigned K,
                 }
             }
     }
+}
+
+void slc_raster_z0_dilate(uint32_t *z0bits, int w, int h, int m, uint32_t *tmp) {
+    if (m <= 0) return;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            tmp[(size_t)y * w + x] = sl_raster_z0_window(z0bits, w, h, x, y, m, 1);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            z0bits[(size_t)y * w + x] = sl_raster_z0_window(tmp, w, h, x, y, m, 0);
+}
+
+void slc_raster_project(const float *pos, const uint32_t *seg, const float *hw, const float *views,
+                        size_t nseg, unsigned nl, float mscale, float *recs) {
+    for (unsigned l = 0; l < nl; l++)
+        for (size_t s = 0; s < nseg; s++)
+            sl_raster_project_seg(pos, seg, hw, views, (sl_uint)nseg, l, (sl_uint)s, mscale, recs);
 }

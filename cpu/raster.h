@@ -12,9 +12,18 @@
  * segment seen end-on, or hw = 0) gets no samples. rec has SL_RASTER_REC (12) floats. */
 void slc_raster_record(const double p0[3], const double p1[3], double hw, double scale, float *rec);
 
+/* Records (SL_RASTER_REC floats each, lobe-major: recs[(l nseg + s) SL_RASTER_REC]) of nl lobes x
+ * nseg segments: segment s runs from world point pos[3 seg[s]] to the next one, half-width hw[s]
+ * texels; views: SL_RASTER_VIEW floats per lobe (kernels/raster.h: sl_raster_project_seg, float
+ * arithmetic identical to raster.cl's sl_raster_project_k). */
+void slc_raster_project(const float *pos, const uint32_t *seg, const float *hw, const float *views,
+                        size_t nseg, unsigned nl, float mscale, float *recs);
 /* Pass 1: z0bits[t] = the smallest depth (as uint bits) of any sample with a non-zero share in
  * texel t, SL_RASTER_Z_EMPTY (+inf) where none. Fills z0bits itself. */
 void slc_raster_z0(const float *recs, size_t nseg, int w, int h, uint32_t *z0bits);
+/* Between the passes: z0bits becomes its minimum over the (2m + 1)^2 window around every texel
+ * (kernels/raster.h: sl_raster_z0_window; m <= 0: unchanged). tmp: w * h scratch values. */
+void slc_raster_z0_dilate(uint32_t *z0bits, int w, int h, int m, uint32_t *tmp);
 /* Pass 2: bins[k * w * h + t] = the fixed-point shares landing in texel t at a depth offset
  * (z - z0) inside layer k (kernels/raster.h: sl_raster_layer). Zeroes bins (K planes) itself. */
 void slc_raster_layers(const float *recs, size_t nseg, int w, int h, unsigned K, float d,

@@ -2,8 +2,11 @@
  * program/kernel cache), the C fallback and event timing. Program building and the disk cache
  * live in clrt_cache.c. Facts this relies on: ../shared/design/toolchain.md sec. 2 (no ICD gives
  * -1001; mesa platforms with 0 devices answer CL_DEVICE_NOT_FOUND and are skipped). */
+#define _GNU_SOURCE /* RTLD_NEXT, for the test-only fault layer at the end of this file */
 #include "clrt.h"
 
+#include <dlfcn.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -26,6 +29,7 @@ struct sl_cl {
     cl_context ctx;
     cl_command_queue queue;
     int profiling, auto_chosen, is_gpu, fp64;
+    int fault; /* SL_CL_FAULT=build (tests only): every program build fails, see sl_cl_fault */
     size_t max_wg;
     cl_ulong max_alloc;
     char device_name[256], driver_version[256], platform_name[256], platform_version[256];
@@ -360,6 +364,7 @@ static int cl_create(const sl_cl_devinfo *d, const sl_cl_inventory *inv, sl_cl *
         copy_str(cl->kernel_dir_err, sizeof cl->kernel_dir_err, ke.msg);
     }
     if (!sl_cache_dir_find(cl->cache_dir, sizeof cl->cache_dir)) cl->cache_dir[0] = 0;
+    cl->fault = sl_cl_fault() == SL_CL_FAULT_BUILD;
     *out = cl;
     return 0;
 }
@@ -481,6 +486,7 @@ int sl_device_open(const char *spec, sl_device *dev, sl_err *e) {
                 d->name, why);
     dev->is_opencl = 1;
     dev->cl = cl;
+    dev->auto_chosen = kind == AUTO;
     copy_str(dev->name, sizeof dev->name, label);
     sl_cl_inventory_free(&inv);
     return 0;
@@ -499,7 +505,7 @@ void sl_device_close(sl_device *dev) {
 }
 
 int sl_device_may_fallback(const sl_device *dev) {
-    return dev && dev->is_opencl && dev->cl && dev->cl->auto_chosen;
+    return dev && dev->is_opencl && dev->cl && dev->auto_chosen && dev->cl->auto_chosen;
 }
 
 void sl_device_fallback_to_c(sl_device *dev, const char *why) {
@@ -507,8 +513,21 @@ void sl_device_fallback_to_c(sl_device *dev, const char *why) {
     sl_device_close(dev);
 }
 
+/* A run-time failure of the device itself (sl_cl_check's "NAME (code)"), as opposed to a bad
+ * argument: out of resources or memory at enqueue, a device gone (NVIDIA reports a lost device
+ * as CL_OUT_OF_RESOURCES, others as CL_DEVICE_NOT_AVAILABLE). */
+static int is_device_failure(const char *msg) {
+    static const char *const codes[] = {"CL_DEVICE_NOT_AVAILABLE (-2)",
+                                        "CL_MEM_OBJECT_ALLOCATION_FAILURE (-4)",
+                                        "CL_OUT_OF_RESOURCES (-5)", "CL_OUT_OF_HOST_MEMORY (-6)"};
+    for (size_t i = 0; msg && i < sizeof codes / sizeof codes[0]; i++)
+        if (strstr(msg, codes[i])) return 1;
+    return 0;
+}
+
 int sl_device_try_fallback(sl_device *dev, int rc, const sl_err *e) {
-    if (rc != SL_CL_EKERNEL || !sl_device_may_fallback(dev)) return 0;
+    int device_failed = rc == -1 && e && is_device_failure(e->msg);
+    if ((rc != SL_CL_EKERNEL && !device_failed) || !sl_device_may_fallback(dev)) return 0;
     sl_device_fallback_to_c(dev, e ? e->msg : NULL);
     return 1;
 }
@@ -534,6 +553,11 @@ int sl_cl_get_kernel(sl_cl *cl, const char *cl_file, const char *kernel_name,
         sl_err be = {{0}};
         if (!cl->kernel_dir[0]) {
             snprintf(p->err, sizeof p->err, "%.200s: %.800s", cl_file, cl->kernel_dir_err);
+        } else if (cl->fault) {
+            snprintf(p->err, sizeof p->err,
+                     "%.200s: OpenCL build failed on '%.200s': CL_BUILD_PROGRAM_FAILURE (-11) "
+                     "(simulated: SL_CL_FAULT=build)",
+                     cl_file, cl->device_name);
         } else {
             sl_cl_build_target t = {
                 cl->ctx,           cl->device,           cl->device_name, cl->driver_version,
@@ -667,4 +691,62 @@ double sl_cl_timer_stop(sl_cl_timer *t, int *is_device) {
     t->num_events = t->cap_events = 0;
     if (is_device) *is_device = ok;
     return ok ? dev : wall;
+}
+
+/* ---------------------------------------------------------------- fault injection (tests) */
+
+int sl_cl_fault(void) {
+    const char *v = getenv("SL_CL_FAULT");
+    if (!v || !*v) return SL_CL_FAULT_NONE;
+    if (strcmp(v, "build") == 0) return SL_CL_FAULT_BUILD;
+    if (strcmp(v, "enqueue") == 0) return SL_CL_FAULT_ENQUEUE;
+    if (strcmp(v, "lost") == 0) return SL_CL_FAULT_LOST;
+    return SL_CL_FAULT_NONE;
+}
+
+/* The enqueue and lost faults interpose the OpenCL entry points the drivers call (this
+ * definition in the executable wins over libOpenCL's; the real one is found with RTLD_NEXT), so
+ * no driver needs to know about them. Without SL_CL_FAULT they only forward. Process-wide state
+ * (tests only): the number of kernel enqueues seen in "lost" mode. */
+static atomic_int lost_enqueues;
+
+typedef cl_int (*ndrange_fn)(cl_command_queue, cl_kernel, cl_uint, const size_t *, const size_t *,
+                             const size_t *, cl_uint, const cl_event *, cl_event *);
+typedef cl_int (*read_fn)(cl_command_queue, cl_mem, cl_bool, size_t, size_t, void *, cl_uint,
+                          const cl_event *, cl_event *);
+
+/* The fault for this call, or CL_SUCCESS. `kernel` counts toward "lost" (the first kernel
+ * enqueue succeeds: the device disappears mid-run, after work was queued). */
+static cl_int injected(int kernel) {
+    switch (sl_cl_fault()) {
+    case SL_CL_FAULT_ENQUEUE:
+        return kernel ? CL_OUT_OF_RESOURCES : CL_SUCCESS;
+    case SL_CL_FAULT_LOST:
+        if (kernel && atomic_fetch_add(&lost_enqueues, 1) == 0) return CL_SUCCESS;
+        return atomic_load(&lost_enqueues) > 0 ? CL_DEVICE_NOT_AVAILABLE : CL_SUCCESS;
+    default:
+        return CL_SUCCESS;
+    }
+}
+
+CL_API_ENTRY cl_int CL_API_CALL clEnqueueNDRangeKernel(cl_command_queue q, cl_kernel k, cl_uint dim,
+                                                       const size_t *offset, const size_t *global,
+                                                       const size_t *local, cl_uint nwait,
+                                                       const cl_event *wait, cl_event *ev) {
+    cl_int f = injected(1);
+    if (f != CL_SUCCESS) return f;
+    ndrange_fn real = (ndrange_fn)dlsym(RTLD_NEXT, "clEnqueueNDRangeKernel");
+    if (!real) return CL_INVALID_OPERATION;
+    return real(q, k, dim, offset, global, local, nwait, wait, ev);
+}
+
+CL_API_ENTRY cl_int CL_API_CALL clEnqueueReadBuffer(cl_command_queue q, cl_mem buf,
+                                                    cl_bool blocking, size_t offset, size_t size,
+                                                    void *ptr, cl_uint nwait, const cl_event *wait,
+                                                    cl_event *ev) {
+    cl_int f = injected(0);
+    if (f != CL_SUCCESS) return f;
+    read_fn real = (read_fn)dlsym(RTLD_NEXT, "clEnqueueReadBuffer");
+    if (!real) return CL_INVALID_OPERATION;
+    return real(q, buf, blocking, offset, size, ptr, nwait, wait, ev);
 }

@@ -27,6 +27,10 @@ typedef struct sl_device {
     sl_cl *cl;     /* non-NULL when is_opencl */
     char
         name[256]; /* human-readable choice, e.g. "PoCL CPU (pthread-skylake-avx512)" or "C path" */
+    /* Set by sl_device_open under "auto": this device may switch to the C path. A device made
+     * by hand around someone else's sl_cl ({0} + .cl = cl) never does, so a fallback can never
+     * release an sl_cl its owner still uses. */
+    int auto_chosen;
 } sl_device;
 
 /* spec: "auto" (GPU OpenCL device, else PoCL CPU device, else C; prints the choice and why on
@@ -49,9 +53,10 @@ int sl_device_may_fallback(const sl_device *dev);
  * releases every OpenCL object (kernels handed out before become invalid: release your own
  * buffers and events first). */
 void sl_device_fallback_to_c(sl_device *dev, const char *why);
-/* For pipeline code after an OpenCL step returned rc: when rc == SL_CL_EKERNEL and dev may fall
- * back, switches dev to the C path (the warning quotes e->msg) and returns 1 (redo the step on
- * C); otherwise returns 0 and leaves everything as it was. */
+/* For pipeline code after an OpenCL step returned rc: when rc == SL_CL_EKERNEL (or -1 with a
+ * run-time device failure in e->msg, see sl_cl_fault) and dev may fall back, switches dev to
+ * the C path (the warning quotes e->msg) and returns 1 (redo the step on C); otherwise returns
+ * 0 and leaves everything as it was. */
 int sl_device_try_fallback(sl_device *dev, int rc, const sl_err *e);
 
 /* Returns a kernel from kernels/<cl_file> built with extra_options (plus -I<kernel dir>
@@ -81,6 +86,16 @@ const char *sl_cl_kernel_dir(const sl_cl *cl);
 /* Counters since open, for tests and `strandlight kernels`: programs built from source, programs
  * loaded from the disk cache, and seconds spent in those builds. Any pointer may be NULL. */
 void sl_cl_build_stats(const sl_cl *cl, int *from_source, int *from_cache, double *build_s);
+
+/* Fault injection, for tests only (docs/robustness.md): SL_CL_FAULT=build makes every program
+ * build of a device opened afterwards fail (SL_CL_EKERNEL, "... (simulated: SL_CL_FAULT=build)");
+ * =enqueue makes every clEnqueueNDRangeKernel return CL_OUT_OF_RESOURCES; =lost lets the first
+ * kernel enqueue of the process through, then every kernel enqueue and buffer read returns
+ * CL_DEVICE_NOT_AVAILABLE (a device gone mid-run). Run-time device failures like these
+ * (CL_DEVICE_NOT_AVAILABLE, CL_MEM_OBJECT_ALLOCATION_FAILURE, CL_OUT_OF_RESOURCES,
+ * CL_OUT_OF_HOST_MEMORY in e->msg) fall back to the C path under auto like SL_CL_EKERNEL does. */
+enum { SL_CL_FAULT_NONE = 0, SL_CL_FAULT_BUILD, SL_CL_FAULT_ENQUEUE, SL_CL_FAULT_LOST };
+int sl_cl_fault(void); /* the SL_CL_FAULT mode now */
 
 /* "CL_OUT_OF_RESOURCES" etc. (static string; "unknown OpenCL error" for unknown codes). */
 const char *sl_cl_strerror(cl_int err);

@@ -10,6 +10,7 @@
 #include "material.h"
 #include "scene.h"
 #include "shadow_eval.h"
+#include "volume_eval.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -32,13 +33,15 @@ static void help(void) {
            "              (response to one SRBF light; model deon: I_0,...,I_<orders>,I_rest,I;\n"
            "              docs/srbf.md)\n"
            "  ms-material theta_d -> a_f,a_b,alpha_f,alpha_b,beta_f,beta_b,A_b,Delta_b,sigma_b\n"
-           "              (dual-scattering terms, Zinke 2008; marschner only; backends\n"
-           "              reference and c; docs/dual.md)\n"
+           "              (dual-scattering terms, Zinke 2008; marschner only; docs/dual.md)\n"
            "  transmittance x,y,z,lobe -> T   (with --scene: effective transmittance of the\n"
            "              scene's hair toward lobe `lobe` of environment.lobes at world point\n"
            "              x,y,z; reference: ray-traced fibers, Monte Carlo over the lobe;\n"
            "              c/opencl: deep opacity maps; docs/shadow.md)\n"
-           "  forward-transmittance: reserved, not implemented yet (exit 1)\n"
+           "  forward-transmittance x,y,z,lobe -> T_f,sigma_f   (with --scene: forward-scattering\n"
+           "              transmittance and spread (dual scattering, Zinke 2008) on the shadow\n"
+           "              path toward lobe `lobe`; reference: the actual fibers; c/opencl: voxel\n"
+           "              grid + shadow-path march; docs/volume.md)\n"
            "\n"
            "options:\n"
            "  --material FILE.json  material (numerics.md sec. 2); default: the defaults there\n"
@@ -208,6 +211,13 @@ static int evaluate(const eval_opts *o, const sl_csv *csv, const sl_material *m,
         if (!o->scene ||
             sl_shadow_eval_transmittance(o->scene, o->backend, cl, n, x, csv->line_no, y, e)) {
             if (!o->scene) sl_fail(e, "eval transmittance needs --scene S.json");
+            free(y);
+            return -1;
+        }
+    } else if (o->q == SL_EVAL_FORWARD_TRANSMITTANCE) { /* hair, material, lobes: volume_eval.h */
+        if (!o->scene ||
+            sl_volume_eval_forward(o->scene, o->backend, cl, n, x, csv->line_no, y, e)) {
+            if (!o->scene) sl_fail(e, "eval forward-transmittance needs --scene S.json");
             free(y);
             return -1;
         }

@@ -12,7 +12,7 @@ static void usage(FILE *fp) {
     size_t n;
     const sl_kernel_check *c = sl_kernel_checks(&n);
     fprintf(fp, "usage: strandlight kernels [--device D] [--only NAME] [--size N] [--reps R] "
-                "[--list]\n\n"
+                "[--list] [--check] [--extreme]\n\n"
                 "Runs each OpenCL kernel and its C twin on the same input and compares them:\n"
                 "max abs/rel difference, tolerance, PASS/FAIL, best C and OpenCL times (ms).\n"
                 "Exit status 1 if any check fails.\n\n"
@@ -22,7 +22,11 @@ static void usage(FILE *fp) {
                 "  --only NAME  run one check\n"
                 "  --size N     problem size (per check; prefix_sum: an N x N image)\n"
                 "  --reps R     timed repetitions, best reported (default 3)\n"
-                "  --list       list the checks and exit\n\nchecks:\n");
+                "  --list       list the checks and exit\n"
+                "  --check      run the checks (the default; for scripts that say so)\n"
+                "  --extreme    then sweep degenerate geometry and extreme materials through the\n"
+                "               C path and the kernels: FAIL on any NaN/Inf output (also with c)\n"
+                "\nchecks:\n");
     for (size_t i = 0; i < n; i++)
         fprintf(fp, "  %-14s %s\n", c[i].name, c[i].what);
 }
@@ -37,7 +41,7 @@ static void fmt_num(char *out, size_t n, double v) {
 int cmd_kernels(int argc, char **argv) {
     const char *device = "auto", *only = NULL, *v;
     long size = 0, reps = 3;
-    int list = 0;
+    int list = 0, extreme = 0;
     for (int i = 1; i < argc; i++) {
         int missing = 0;
         if (cli_is_help(argv[i])) {
@@ -55,6 +59,10 @@ int cmd_kernels(int argc, char **argv) {
             if (missing || cli_int("kernels", "--reps", v, 1, 1000, &reps)) return 2;
         } else if (strcmp(argv[i], "--list") == 0) {
             list = 1;
+        } else if (strcmp(argv[i], "--check") == 0) {
+            /* the default action */
+        } else if (strcmp(argv[i], "--extreme") == 0) {
+            extreme = 1;
         } else {
             return cli_usage_error("kernels", "unexpected argument '%s'", argv[i]);
         }
@@ -82,8 +90,9 @@ int cmd_kernels(int argc, char **argv) {
                 printf("%-18s SKIP (no OpenCL device: the C path has nothing to compare "
                        "against)\n",
                        checks[i].name);
+        int bad = extreme ? sl_kernel_extreme(NULL, stdout) : 0;
         sl_device_close(&dev);
-        return 0;
+        return bad ? 1 : 0;
     }
     printf("%-18s %-16s %-9s %-9s %-16s %-6s %9s %9s %9s\n", "kernel", "problem", "max_abs",
            "max_rel", "tolerance", "result", "C_ms", "CL_ms", "CL_wall");
@@ -118,6 +127,7 @@ int cmd_kernels(int argc, char **argv) {
     printf("%d passed, %d failed; programs: %d built from source, %d from the disk cache "
            "(%.3f s)\n",
            passed, failed, from_source, from_cache, build_s);
+    if (extreme) failed += sl_kernel_extreme(dev.cl, stdout);
     sl_device_close(&dev);
     return failed ? 1 : 0;
 }

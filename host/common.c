@@ -4,6 +4,7 @@
 #include <ctype.h>
 #include <errno.h>
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -41,25 +42,76 @@ void sl_note(const char *fmt, ...) {
     va_end(ap);
 }
 
+/* ---- out of memory, and allocation failure injection for tests ----
+ *
+ * Process-wide state, the one deliberate exception to "no global mutable state": the allocation
+ * counter and the injected failure point (tests only: SL_ALLOC_FAIL_AT or sl_alloc_fail_after)
+ * and the names of the last temporary output files (so that an out-of-memory exit removes a
+ * half-written one). Atomics: PoCL runs threads, and a counter must not tear. */
+
+static atomic_long alloc_count;        /* sl_* allocations so far */
+static atomic_long alloc_fail_at = -1; /* the count that fails; 0: never; -1: read the env */
+
+#define SL_TEMP_RING 16
+static char temp_ring[SL_TEMP_RING][4096]; /* recent sl_temp_name results (may be gone) */
+static atomic_uint temp_ring_next;
+
+static void print_alloc_count(void) {
+    fprintf(stderr, "strandlight: allocations: %ld\n", atomic_load(&alloc_count));
+}
+
+void sl_alloc_fail_after(long k) {
+    atomic_store(&alloc_count, 0);
+    atomic_store(&alloc_fail_at, k > 0 ? k : 0);
+}
+
+long sl_alloc_count(void) {
+    return atomic_load(&alloc_count);
+}
+
+/* Counts one allocation; returns 1 when it is the one that must fail. */
+static int alloc_should_fail(void) {
+    long at = atomic_load(&alloc_fail_at);
+    if (at < 0) {
+        const char *v = getenv("SL_ALLOC_FAIL_AT");
+        long k = v ? strtol(v, NULL, 10) : 0;
+        long expect = -1;
+        if (atomic_compare_exchange_strong(&alloc_fail_at, &expect, k > 0 ? k : 0)) {
+            const char *c = getenv("SL_ALLOC_COUNT");
+            if (c && *c && strcmp(c, "0") != 0) atexit(print_alloc_count);
+        }
+        at = atomic_load(&alloc_fail_at);
+    }
+    long n = atomic_fetch_add(&alloc_count, 1) + 1;
+    return at > 0 && n == at;
+}
+
+/* Out of memory: one line, remove any temporary output file this process may have left half
+ * written, and _exit(1) (not exit: atexit handlers and library destructors may allocate again,
+ * and buffered stdout must not be flushed as if the output were complete). */
 static void oom(size_t n) {
+    unsigned used = atomic_load(&temp_ring_next);
+    for (unsigned i = 0; i < SL_TEMP_RING && i < used; i++)
+        if (temp_ring[i][0]) unlink(temp_ring[i]);
     fprintf(stderr, "strandlight: out of memory allocating %zu bytes\n", n);
-    exit(1);
+    fflush(stderr);
+    _exit(1);
 }
 
 void *sl_malloc(size_t n) {
-    void *p = malloc(n ? n : 1);
+    void *p = alloc_should_fail() ? NULL : malloc(n ? n : 1);
     if (!p) oom(n);
     return p;
 }
 
 void *sl_calloc(size_t count, size_t size) {
-    void *p = calloc(count ? count : 1, size ? size : 1);
+    void *p = alloc_should_fail() ? NULL : calloc(count ? count : 1, size ? size : 1);
     if (!p) oom(count * size);
     return p;
 }
 
 void *sl_realloc(void *p, size_t n) {
-    void *q = realloc(p, n ? n : 1);
+    void *q = alloc_should_fail() ? NULL : realloc(p, n ? n : 1);
     if (!q) oom(n);
     return q;
 }
@@ -101,6 +153,9 @@ int sl_read_file(const char *path, unsigned char **data, size_t *size, size_t ma
 void sl_temp_name(const char *path, char *tmp, size_t tmp_size) {
     static unsigned counter;
     snprintf(tmp, tmp_size, "%s.tmp%ld.%u", path, (long)getpid(), counter++);
+    /* Remembered so that an out-of-memory exit can remove it (oom above). */
+    unsigned slot = atomic_fetch_add(&temp_ring_next, 1) % SL_TEMP_RING;
+    snprintf(temp_ring[slot], sizeof temp_ring[slot], "%s", tmp);
 }
 
 int sl_make_parent_dirs(const char *path, sl_err *e) {

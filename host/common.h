@@ -29,6 +29,14 @@ void *sl_malloc(size_t n);
 void *sl_calloc(size_t count, size_t size);
 void *sl_realloc(void *p, size_t n);
 char *sl_strdup(const char *s);
+/* Allocation failure injection, for tests only (test/cli/test_faults.sh, docs/robustness.md).
+ * The k-th sl_malloc/sl_calloc/sl_realloc/sl_strdup call from now fails as if out of memory
+ * (one line "strandlight: out of memory allocating N bytes", temporary outputs removed, exit
+ * status 1); k = 0 turns injection off. The environment does the same for a whole process:
+ * SL_ALLOC_FAIL_AT=k counts from the start; SL_ALLOC_COUNT=1 prints
+ * "strandlight: allocations: N" at exit. sl_alloc_count: allocations counted so far. */
+void sl_alloc_fail_after(long k);
+long sl_alloc_count(void);
 
 /* Reads a whole regular file. Errors name the path: missing, unreadable, a directory, too big. */
 int sl_read_file(const char *path, unsigned char **data, size_t *size, size_t max_size, sl_err *e);

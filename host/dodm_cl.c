@@ -22,30 +22,32 @@ static int run1d(sl_cl *cl, cl_kernel k, const char *name, size_t n, sl_cl_timer
     return 0;
 }
 
-int slcl_dodm_tables_buf(sl_cl *cl, cl_mem bins, int w, int h, unsigned K, sl_cl_timer *timer,
-                         sl_err *e) {
+int slcl_dodm_tables_buf(sl_cl *cl, cl_mem bins, int w, int h, unsigned K, unsigned nl,
+                         sl_cl_timer *timer, sl_err *e) {
     cl_kernel kc, kr, kcol;
     int rc;
     if ((rc = sl_cl_get_kernel(cl, DODM_FILE, "sl_dodm_cumulate", NULL, &kc, e))) return rc;
     if ((rc = sl_cl_get_kernel(cl, DODM_FILE, "sl_dodm_scan_rows", NULL, &kr, e))) return rc;
     if ((rc = sl_cl_get_kernel(cl, DODM_FILE, "sl_dodm_scan_cols", NULL, &kcol, e))) return rc;
+    /* the scans see the nl * K planes as one stack: rows = nl K h, columns = nl K w */
     cl_uint plane = (cl_uint)((size_t)w * h), kk = K, cw = (cl_uint)w, ch = (cl_uint)h,
-            rows = (cl_uint)((size_t)K * h);
+            rows = (cl_uint)((size_t)nl * K * h), nk = K * nl, l = nl;
     cl_int err = 0;
     err |= clSetKernelArg(kc, 0, sizeof bins, &bins);
     err |= clSetKernelArg(kc, 1, sizeof plane, &plane);
     err |= clSetKernelArg(kc, 2, sizeof kk, &kk);
+    err |= clSetKernelArg(kc, 3, sizeof l, &l);
     err |= clSetKernelArg(kr, 0, sizeof bins, &bins);
     err |= clSetKernelArg(kr, 1, sizeof cw, &cw);
     err |= clSetKernelArg(kr, 2, sizeof rows, &rows);
     err |= clSetKernelArg(kcol, 0, sizeof bins, &bins);
     err |= clSetKernelArg(kcol, 1, sizeof cw, &cw);
     err |= clSetKernelArg(kcol, 2, sizeof ch, &ch);
-    err |= clSetKernelArg(kcol, 3, sizeof kk, &kk);
+    err |= clSetKernelArg(kcol, 3, sizeof nk, &nk);
     if (sl_cl_check(err, "dodm: kernel arguments", e)) return -1;
-    if (run1d(cl, kc, "dodm: sl_dodm_cumulate", plane, timer, e)) return -1;
+    if (run1d(cl, kc, "dodm: sl_dodm_cumulate", (size_t)plane * nl, timer, e)) return -1;
     if (run1d(cl, kr, "dodm: sl_dodm_scan_rows", rows, timer, e)) return -1;
-    return run1d(cl, kcol, "dodm: sl_dodm_scan_cols", (size_t)w * K, timer, e);
+    return run1d(cl, kcol, "dodm: sl_dodm_scan_cols", (size_t)w * nk, timer, e);
 }
 
 int slcl_dodm_tables(sl_cl *cl, uint64_t *bins, int w, int h, unsigned K, double *kernel_s,
@@ -57,7 +59,7 @@ int slcl_dodm_tables(sl_cl *cl, uint64_t *bins, int w, int h, unsigned K, double
     if (sl_cl_check(err, "dodm: clCreateBuffer", e)) return -1;
     sl_cl_timer t;
     sl_cl_timer_start(&t, cl);
-    int rc = slcl_dodm_tables_buf(cl, b, w, h, K, &t, e);
+    int rc = slcl_dodm_tables_buf(cl, b, w, h, K, 1, &t, e);
     double s = sl_cl_timer_stop(&t, NULL);
     if (kernel_s) *kernel_s = s;
     if (!rc &&
@@ -118,4 +120,38 @@ done:
     if (bp) clReleaseMemObject(bp);
     if (bt) clReleaseMemObject(bt);
     return rc;
+}
+
+int slcl_dodm_lookup_lobes_buf(sl_cl *cl, cl_mem z0bits, cl_mem sat, int w, int h, unsigned K,
+                               cl_mem params, cl_mem views, cl_mem pts, cl_mem lobe, size_t n,
+                               unsigned nl, unsigned lobe0, size_t stride, cl_mem T,
+                               sl_cl_timer *timer, sl_err *e) {
+    if (n == 0) return 0;
+    size_t work = lobe ? n : n * nl;
+    if (work > 0xffffffffu || stride > 0xffffffffu)
+        return sl_fail(e, "dodm: %zu points is too many", n);
+    cl_kernel k;
+    int rc = sl_cl_get_kernel(cl, DODM_FILE, "sl_dodm_lookup_lobes", NULL, &k, e);
+    if (rc) return rc;
+    cl_uint kk = K, nn = (cl_uint)n, l = nl, l0 = lobe0, st = (cl_uint)stride;
+    cl_int all = lobe == NULL;
+    cl_mem lb = lobe ? lobe : pts; /* unread when all != 0 */
+    cl_int err = 0;
+    err |= clSetKernelArg(k, 0, sizeof z0bits, &z0bits);
+    err |= clSetKernelArg(k, 1, sizeof sat, &sat);
+    err |= clSetKernelArg(k, 2, sizeof w, &w);
+    err |= clSetKernelArg(k, 3, sizeof h, &h);
+    err |= clSetKernelArg(k, 4, sizeof kk, &kk);
+    err |= clSetKernelArg(k, 5, sizeof params, &params);
+    err |= clSetKernelArg(k, 6, sizeof views, &views);
+    err |= clSetKernelArg(k, 7, sizeof pts, &pts);
+    err |= clSetKernelArg(k, 8, sizeof lb, &lb);
+    err |= clSetKernelArg(k, 9, sizeof all, &all);
+    err |= clSetKernelArg(k, 10, sizeof nn, &nn);
+    err |= clSetKernelArg(k, 11, sizeof l, &l);
+    err |= clSetKernelArg(k, 12, sizeof l0, &l0);
+    err |= clSetKernelArg(k, 13, sizeof st, &st);
+    err |= clSetKernelArg(k, 14, sizeof T, &T);
+    if (sl_cl_check(err, "dodm: sl_dodm_lookup_lobes arguments", e)) return -1;
+    return run1d(cl, k, "dodm: sl_dodm_lookup_lobes", work, timer, e);
 }

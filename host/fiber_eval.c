@@ -5,6 +5,7 @@
 
 #include "deon_ref.h"
 #include "dual_c.h"
+#include "dual_cl.h"
 #include "dual_ref.h"
 #include "fiber_c.h"
 #include "fiber_cl.h"
@@ -64,7 +65,7 @@ static const qdesc quantities[SL_EVAL_NUM_QUANTITIES] = {
      4,
      {{"x", SL_RANGE_ANY}, {"y", SL_RANGE_ANY}, {"z", SL_RANGE_ANY}, {"lobe", SL_RANGE_INDEX}}},
     {"forward-transmittance",
-     0,
+     1, /* evaluated by host/volume_eval.c (needs the scene), not by sl_eval_run */
      1,
      1,
      4,
@@ -311,6 +312,9 @@ static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, i
             break;
         case SL_EVAL_FURNACE:
             rc = slcl_furnace_batch(cl, &fp, n, fin, fout, e);
+            break;
+        case SL_EVAL_MS_MATERIAL:
+            rc = slcl_ms_material_batch(cl, &fp, n, fin, fout, e);
             break;
         default:
             rc = sl_fail(e, "eval: %s is not implemented yet", d->name);

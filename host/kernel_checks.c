@@ -6,6 +6,8 @@
 #include "prefix_sum_cl.h"
 #include "dodm_cl.h"   /* slchk_dodm (shadow) */
 #include "raster_cl.h" /* slchk_raster (shadow) */
+#include "srbf_cl.h"   /* slchk_srbf (srbf) */
+#include "volume.h"    /* slchk_voxel, slchk_march (volume) */
 
 #include <math.h>
 #include <stdlib.h>
@@ -18,6 +20,12 @@ static const sl_kernel_check checks[] = {
      slchk_prefix_sum_serial},
     {"raster", "segment rasterizer + DODM tables, raster.cl + dodm.cl (bit-identical)", slchk_raster},
     {"dodm_lookup", "convolution optical depth lookup T = exp(-tau), dodm.cl", slchk_dodm},
+    {"voxel", "hair voxelization (density, direction, deviation), voxel.cl", slchk_voxel},
+    {"march", "shadow-path march T_f, sigma_f (dual scattering), march.cl", slchk_march},
+    {"ms", "multiple-scattering response per fragment and lobe (Xu Eq. 27-31), ms.cl",
+     slchk_ms_response},
+    {"dual", "dual-scattering material table nodes, dual.cl", slchk_dual_table},
+    {"srbf", "SRBF response, --method fast and xu (m = 4), srbf_eval.cl", slchk_srbf},
 };
 
 const sl_kernel_check *sl_kernel_checks(size_t *count) {
@@ -118,4 +126,178 @@ int slchk_prefix_sum(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_r
 int slchk_prefix_sum_serial(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r,
                             sl_err *e) {
     return check_prefix_sum(cl, o, SL_PS_SERIAL, r, e);
+}
+
+/* ---------------------------------------------------------------- extreme sweep (--extreme)
+ * Degenerate geometry and extreme materials through the C path and, when cl is given, the
+ * OpenCL kernels (docs/robustness.md). The requirement is zero NaN/Inf in any output (and
+ * T in [0, 1]); C-vs-kernel agreement is the business of the regular checks. Devices made
+ * here around cl never fall back (sl_device.auto_chosen = 0). */
+#include "fiber_eval.h"
+#include "hair.h"
+#include "material.h"
+#include "shadow.h"
+
+/* Hair of `strands` strands of `pts` points: a fan of straight strands, then `kind` bends it:
+ * 0 normal, 1 every other strand zero-length (all points equal), 2 all strands coincident,
+ * 3 every point of the hair at one place, 4 far from the origin (1e6), 5 one strand of 2 points. */
+static void extreme_hair(sl_hair *h, int kind) {
+    uint32_t ns = kind == 5 ? 1 : 64, np = kind == 5 ? 2 : 8;
+    memset(h, 0, sizeof *h);
+    sl_hair_alloc(h, ns, ns * np);
+    h->default_radius = 0.01f;
+    h->default_transparency = 0;
+    for (uint32_t s = 0; s <= ns; s++)
+        h->strand_first[s] = s * np;
+    for (uint32_t s = 0; s < ns; s++)
+        for (uint32_t k = 0; k < np; k++) {
+            float *p = h->pos + 3 * (s * np + k);
+            float a = kind == 2 ? 0 : 0.1f * (float)s, t = (float)k / (float)(np - 1);
+            p[0] = 0.3f * cosf(a) * t;
+            p[1] = 1.0f - t;
+            p[2] = 0.3f * sinf(a) * t;
+            if ((kind == 1 && s % 2) || kind == 3) p[0] = p[1] = p[2] = 0.25f;
+            if (kind == 4) p[0] += 1e6f, p[2] -= 1e6f;
+        }
+}
+
+static int all_finite(const double *x, size_t n, int unit) {
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(x[i]) || (unit && (x[i] < 0 || x[i] > 1))) return 0;
+    return 1;
+}
+
+/* Shadow map + lookups for one hair/lobe on dev; T gets n values. */
+static int extreme_shadow(sl_device *dev, const sl_hair *h, const double dir[3], double lambda,
+                          int size, size_t n, const double *xyz, double *T, sl_err *e) {
+    sl_shadow_opts o;
+    sl_shadow_opts_default(&o);
+    o.size = size;
+    sl_dodm m;
+    if (sl_shadow_build(dev, h, dir, lambda, &o, &m, e)) return -1;
+    int rc = sl_shadow_lookup(dev, &m, n, xyz, T, e);
+    sl_dodm_free(&m);
+    return rc;
+}
+
+static int extreme_geometry(sl_cl *cl, FILE *out) {
+    static const char *const names[6] = {"normal",
+                                         "zero-length segments",
+                                         "coincident strands",
+                                         "all points at one place",
+                                         "far from the origin (1e6)",
+                                         "one 2-point strand"};
+    static const double dirs[3][3] = {{0, 1, 0}, {0, 0, -1}, {0.36, 0.8, 0.48}};
+    static const double lambdas[3] = {1e-3, 0.3, 10};
+    int failed = 0;
+    for (int kind = 0; kind < 6; kind++) {
+        sl_hair h;
+        extreme_hair(&h, kind);
+        float lo[3], hi[3];
+        sl_hair_bounds(&h, lo, hi);
+        /* Lookups at the hair's centre (inside it), at its bounds, far behind and far in front
+         * along every axis. */
+        enum { NP = 9 };
+        double xyz[3 * NP];
+        for (int k = 0; k < 3; k++) {
+            double c = 0.5 * ((double)lo[k] + hi[k]);
+            for (int i = 0; i < NP; i++)
+                xyz[3 * i + k] = c;
+            xyz[3 * 1 + k] = lo[k];
+            xyz[3 * 2 + k] = hi[k];
+            xyz[3 * (3 + k) + k] = c + 1e3;
+            xyz[3 * (6 + k) + k] = c - 1e3;
+        }
+        size_t cases = 0, bad = 0;
+        char why[512] = "";
+        for (int d = 0; d < 3; d++)
+            for (int l = 0; l < 3; l++)
+                for (int size = 2; size <= 64; size *= 32) { /* 2 and 64 texels */
+                    for (int use_cl = 0; use_cl <= (cl != NULL); use_cl++) {
+                        sl_device dev = {0};
+                        dev.is_opencl = use_cl;
+                        dev.cl = use_cl ? cl : NULL;
+                        double T[NP];
+                        sl_err e = {{0}};
+                        cases++;
+                        if (extreme_shadow(&dev, &h, dirs[d], lambdas[l], size, NP, xyz, T, &e)) {
+                            bad++;
+                            snprintf(why, sizeof why, "%s: %.400s", use_cl ? "OpenCL" : "C", e.msg);
+                        } else if (!all_finite(T, NP, 1)) {
+                            bad++;
+                            snprintf(why, sizeof why,
+                                     "%s: T not finite or outside [0, 1] (dir %d, lambda %g, "
+                                     "%d texels)",
+                                     use_cl ? "OpenCL" : "C", d, lambdas[l], size);
+                        }
+                    }
+                }
+        fprintf(out, "extreme shadow %-28s %s (%zu maps x %d lookups%s)%s%s\n", names[kind],
+                bad ? "FAIL" : "PASS", cases, NP, cl ? ", C and OpenCL" : ", C only",
+                bad ? ": " : "", why);
+        failed += bad > 0;
+        sl_hair_free(&h);
+    }
+    return failed;
+}
+
+static int extreme_materials(sl_cl *cl, FILE *out) {
+    static const char *const mats[] = {
+        "{}",
+        "{\"eta\": 1.0001}",
+        "{\"eta\": 10, \"sigma_a\": 0}",
+        "{\"beta_R_deg\": 0.5, \"sigma_a\": 50}",
+        "{\"beta_R_deg\": 60, \"alpha_R_deg\": 20}",
+        "{\"eccentricity\": 0.5, \"caustic_width_deg\": 0.5}",
+        "{\"eccentricity\": 2, \"fresnel\": \"schlick\"}",
+        "{\"model\": \"deon\", \"orders\": 2, \"beta_R_deg\": 0.5}",
+        "{\"model\": \"deon\", \"orders\": 32, \"beta_R_deg\": 60, \"sigma_a\": 0}",
+    };
+    /* Grazing and axis-aligned directions; 1.5707963 is the float just below pi/2. */
+    static const double th[] = {-1.5707963, -1, 0, 0.5, 1.5707963};
+    static const double ph[] = {0, 1e-7, 1.5707963, 3.1415925, -3.1415925};
+    enum { NT = 5, NPH = 5, N = NT * NPH * NT * NPH };
+    double *in = sl_malloc(4 * N * sizeof *in), *res = NULL;
+    size_t r = 0;
+    for (int a = 0; a < NT; a++)
+        for (int b = 0; b < NPH; b++)
+            for (int c = 0; c < NT; c++)
+                for (int d = 0; d < NPH; d++, r++) {
+                    in[4 * r] = th[a];
+                    in[4 * r + 1] = ph[b];
+                    in[4 * r + 2] = th[c];
+                    in[4 * r + 3] = ph[d];
+                }
+    int failed = 0;
+    for (size_t i = 0; i < sizeof mats / sizeof mats[0]; i++) {
+        sl_material m;
+        sl_err e = {{0}};
+        char why[512] = "";
+        size_t bad = 0;
+        if (sl_material_parse(mats[i], strlen(mats[i]), "extreme", &m, &e)) {
+            bad = 1;
+            snprintf(why, sizeof why, "%.400s", e.msg);
+        }
+        size_t nout = bad ? 0 : sl_eval_num_outputs(SL_EVAL_SCATTER, &m);
+        res = sl_realloc(res, (nout ? nout : 1) * N * sizeof *res);
+        for (int b = SL_EVAL_C; !bad && b <= (cl ? SL_EVAL_OPENCL : SL_EVAL_C); b++) {
+            if (sl_eval_run(SL_EVAL_SCATTER, (sl_eval_backend)b, cl, &m, 0, N, in, res, &e)) {
+                bad++;
+                snprintf(why, sizeof why, "%s: %.400s", b == SL_EVAL_C ? "C" : "OpenCL", e.msg);
+            } else if (!all_finite(res, nout * N, 0)) {
+                bad++;
+                snprintf(why, sizeof why, "%s: NaN or Inf in f", b == SL_EVAL_C ? "C" : "OpenCL");
+            }
+        }
+        fprintf(out, "extreme scatter %-52s %s (%d directions%s)%s%s\n", mats[i],
+                bad ? "FAIL" : "PASS", N, cl ? ", C and OpenCL" : ", C only", bad ? ": " : "", why);
+        failed += bad > 0;
+    }
+    free(in);
+    free(res);
+    return failed;
+}
+
+int sl_kernel_extreme(sl_cl *cl, FILE *out) {
+    return extreme_geometry(cl, out) + extreme_materials(cl, out);
 }

@@ -49,6 +49,14 @@ void sl_kernel_compare(const float *kernel_out, const float *c_out, size_t n,
 /* Deterministic pseudo-random floats in [lo, hi) from a seed (xorshift64*), for check inputs. */
 void sl_kernel_check_fill(float *x, size_t n, unsigned long long seed, float lo, float hi);
 
+/* `strandlight kernels --extreme`: degenerate geometry (zero-length segments, coincident
+ * strands, a hair collapsed to a point, far from the origin, one strand; lookups inside and far
+ * outside the hair; 2-texel maps; sharp and broad lobes) and extreme materials at grazing
+ * directions, on the C path and, when cl is non-NULL, on the OpenCL kernels. Prints one
+ * "extreme ... PASS|FAIL" line per case to out; returns the number of failed cases (any NaN/Inf
+ * output, T outside [0, 1], or an error). */
+int sl_kernel_extreme(sl_cl *cl, FILE *out);
+
 /* The checks (one per kernel pair). */
 int slchk_prefix_sum(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r,
                      sl_err *e);

@@ -8,10 +8,12 @@
 #include <string.h>
 
 double sl_lobe_integral(double lambda) {
-    double l2 = lambda * lambda;
-    /* 2 pi integral_{-1}^{1} exp(2 (t - 1) / l2) dt = pi l2 (1 - exp(-4 / l2)); expm1 keeps
-     * the broad-lobe limit (4 pi) exact. */
-    return -M_PI * l2 * expm1(-4.0 / l2);
+    /* 2 pi integral_{-1}^{1} exp(2 (t - 1) / l2) dt = pi l2 (1 - exp(-4 / l2)), written with
+     * x = 4 / l2 so that neither end overflows: broad lobes (x -> 0, l2 may be Inf) tend to
+     * 4 pi (1 - exp(-x)) / x -> 4 pi, narrow ones to pi l2; expm1 keeps both limits exact. */
+    double x = 4.0 / (lambda * lambda);
+    if (x > 1.0) return -M_PI * lambda * lambda * expm1(-x);
+    return x > 0 ? -4.0 * M_PI * expm1(-x) / x : 4.0 * M_PI;
 }
 
 void sl_lobes_free(sl_lobes *l) {

@@ -141,6 +141,7 @@ static int read_melanin(const mctx *c, const cJSON *v, sl_material *m, sl_err *e
     static const double eu[3] = {0.419, 0.697, 1.37}, pheo[3] = {0.187, 0.4, 1.05};
     for (int i = 0; i < 3; i++)
         m->sigma_a[i] = rho[0] * eu[i] + rho[1] * pheo[i];
+    if (!isfinite(m->sigma_a[2])) return key_fail(c, "melanin", "too large (sigma_a overflows)", e);
     m->sigma_a_rgb = 1;
     return 0;
 }

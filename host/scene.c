@@ -32,6 +32,7 @@ void sl_scene_default(sl_scene *s) {
     s->voxels = 64;
     s->multiple_scattering = SL_MS_AUTO;
     s->oit_layers = 8;
+    s->shadow_size = 0; /* light-map size, texels; 0: the consumer's default (eval: 512) */
     snprintf(s->shading_rate, sizeof s->shading_rate, "auto");
 }
 
@@ -161,7 +162,7 @@ static int read_camera(const sl_json_ctx *top, const cJSON *cam, sl_scene *s, sl
 static int read_quality(const sl_json_ctx *top, const cJSON *q, sl_scene *s, sl_err *e) {
     static const char *const keys[] = {"lobes",      "layers", "segments_m",          "kappa",
                                        "voxels",     "multiple_scattering", "oit_layers",
-                                       "shading_rate", NULL};
+                                       "shading_rate", "shadow_size", NULL};
     sl_json_ctx c = {top->file, "quality"};
     if (sl_json_check_keys(&c, q, keys, e)) return -1;
     long v;
@@ -180,6 +181,9 @@ static int read_quality(const sl_json_ctx *top, const cJSON *q, sl_scene *s, sl_
     v = s->oit_layers;
     if (sl_json_int(&c, q, "oit_layers", 0, 1, 64, &v, e)) return -1;
     s->oit_layers = (int)v;
+    v = s->shadow_size;
+    if (sl_json_int(&c, q, "shadow_size", 0, 16, 8192, &v, e)) return -1;
+    s->shadow_size = (int)v;
     if (sl_json_number(&c, q, "kappa", 0, &s->kappa, e)) return -1;
     if (!(s->kappa > 0 && s->kappa <= 1))
         return sl_fail(e, "%s: quality.kappa: must be in (0, 1]", top->file);

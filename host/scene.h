@@ -39,6 +39,7 @@ typedef struct sl_scene {
 
     /* quality */
     int lobes, layers, segments_m, voxels, oit_layers;
+    int shadow_size; /* quality.shadow_size: light-map (DODM) width = height, texels; 0: unset */
     double kappa;
     int multiple_scattering; /* SL_MS_* */
     char shading_rate[32];   /* "auto", "fragment", "vertex" or "vertex:K" */

@@ -4,6 +4,7 @@
 
 #include "../cpu/dodm.h"
 #include "../cpu/raster.h"
+#include "../kernels/dodm.h"
 #include "../kernels/raster.h"
 #include "dodm_cl.h"
 #include "raster_cl.h"
@@ -17,6 +18,22 @@ void sl_shadow_opts_default(sl_shadow_opts *o) {
     o->layers = SL_SHADOW_DEFAULT_LAYERS;
     o->kappa = 1.0;
     o->seed = 1;
+    o->z0_radius = 0;
+}
+
+/* The automatic z0 window: its width (2 m + 2 texels with the tent footprint) spans
+ * SL_SHADOW_Z0_FIBERS widened fibers of the hair's mean radius. */
+static int auto_z0_radius(const sl_hair *h, double kappa, double texel) {
+    double r = h->default_radius;
+    if (h->radius && h->num_points) {
+        double s = 0;
+        for (uint32_t i = 0; i < h->num_points; i++)
+            s += h->radius[i];
+        r = s / h->num_points;
+    }
+    double m = ceil((SL_SHADOW_Z0_FIBERS * 2.0 * r / kappa / texel - 2.0) / 2.0);
+    if (!(m > 0)) return 0;
+    return m > SL_SHADOW_Z0_MAX_RADIUS ? SL_SHADOW_Z0_MAX_RADIUS : (int)m;
 }
 
 double sl_shadow_support_angle(double lambda) {
@@ -80,91 +97,26 @@ static double seg_radius(const sl_hair *h, uint32_t i) {
     return h->radius ? 0.5 * ((double)h->radius[i] + h->radius[i + 1]) : h->default_radius;
 }
 
-/* Records of the kept segments (fixed-point scale applied), their count, the depth range of
- * their end points, and the sample count. */
-static size_t make_records(const sl_hair *h, const sl_light_view *v, const sl_shadow_opts *o,
-                           float **out, double *scale, double zr[2], size_t *samples) {
-    size_t nseg = 0;
-    for (uint32_t s = 0; s < h->num_strands; s++)
-        if (sl_shadow_strand_kept(s, o->seed, o->kappa))
-            nseg += h->strand_first[s + 1] - h->strand_first[s] - 1;
-    float *recs = sl_malloc((nseg ? nseg : 1) * SL_RASTER_REC * sizeof *recs);
-    double total = 0, wscale = 1.0 / o->kappa; /* Ren: kept fibers widened by 1/kappa */
-    zr[0] = INFINITY;
-    zr[1] = -INFINITY;
-    size_t k = 0;
-    *samples = 0;
-    for (uint32_t s = 0; s < h->num_strands; s++) {
-        if (!sl_shadow_strand_kept(s, o->seed, o->kappa)) continue;
-        for (uint32_t i = h->strand_first[s]; i + 1 < h->strand_first[s + 1]; i++, k++) {
-            double p0[3], p1[3], a[3], b[3];
-            for (int c = 0; c < 3; c++) {
-                a[c] = h->pos[3 * i + c];
-                b[c] = h->pos[3 * i + 3 + c];
-            }
-            sl_light_view_project(v, a, p0);
-            sl_light_view_project(v, b, p1);
-            double hw = seg_radius(h, i) * wscale / v->texel;
-            float *rec = recs + k * SL_RASTER_REC;
-            slc_raster_record(p0, p1, hw, 1.0, rec);
-            total += (double)rec[8] * rec[9] * rec[10];
-            *samples += (size_t)rec[9] * (size_t)rec[10];
-            zr[0] = fmin(zr[0], fmin(p0[2], p1[2]));
-            zr[1] = fmax(zr[1], fmax(p0[2], p1[2]));
-        }
-    }
-    /* Fixed point: the largest power of two keeping the map's total below 2^60 (so every box
-     * sum and table entry fits in 64 bits with room for rounding). */
-    int ex = total > 0 ? (int)floor(log2(ldexp(1.0, 60) / total)) : 0;
-    if (ex > 100) ex = 100;
-    *scale = ldexp(1.0, ex);
-    for (size_t j = 0; j < nseg; j++)
-        recs[j * SL_RASTER_REC + 8] *= (float)*scale;
-    *out = recs;
-    return nseg;
+/* What every lobe of a build shares: the kept segments (stochastic simplification) with their
+ * half-widths in texels (all lobes' views have the same texel: the same bounding sphere), the
+ * fixed-point scale, and the z0 window. */
+typedef struct prep {
+    uint32_t *seg; /* first point of each kept segment */
+    float *hw;     /* half-width, texels, widened by 1 / kappa (Ren 2010 Sec. 7) */
+    size_t nseg;
+    double scale, texel;
+    int z0_radius;
+    float lo[3], hi[3];
+    double margin;
+} prep;
+
+static void prep_free(prep *p) {
+    free(p->seg);
+    free(p->hw);
 }
 
-static int build_cl(sl_cl *cl, const float *recs, size_t nseg, sl_dodm *m, sl_err *e) {
-    int w = m->view.w, h = m->view.h;
-    size_t plane = (size_t)w * h;
-    cl_context ctx = sl_cl_context(cl);
-    cl_int err;
-    cl_mem br = NULL, bz = NULL, bb = NULL;
-    int rc = -1;
-    br = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                        (nseg ? nseg : 1) * SL_RASTER_REC * sizeof(float), (void *)recs, &err);
-    if (sl_cl_check(err, "shadow: clCreateBuffer(records)", e)) goto done;
-    bz = clCreateBuffer(ctx, CL_MEM_READ_WRITE, plane * sizeof(cl_uint), NULL, &err);
-    if (sl_cl_check(err, "shadow: clCreateBuffer(z0)", e)) goto done;
-    bb = clCreateBuffer(ctx, CL_MEM_READ_WRITE, m->K * plane * sizeof(cl_ulong), NULL, &err);
-    if (sl_cl_check(err, "shadow: clCreateBuffer(layers)", e)) goto done;
-    sl_cl_timer t;
-    sl_cl_timer_start(&t, cl);
-    rc = slcl_raster_buf(cl, br, nseg, w, h, m->K, m->d, bz, bb, &t, e);
-    m->raster_s = sl_cl_timer_stop(&t, NULL);
-    if (rc) goto done;
-    sl_cl_timer_start(&t, cl);
-    rc = slcl_dodm_tables_buf(cl, bb, w, h, m->K, &t, e);
-    m->tables_s = sl_cl_timer_stop(&t, NULL);
-    if (rc) goto done;
-    cl_command_queue q = sl_cl_queue(cl);
-    if (sl_cl_check(clEnqueueReadBuffer(q, bz, CL_TRUE, 0, plane * sizeof(cl_uint), m->z0bits, 0,
-                                        NULL, NULL),
-                    "shadow: read z0", e) ||
-        sl_cl_check(clEnqueueReadBuffer(q, bb, CL_TRUE, 0, m->K * plane * sizeof(cl_ulong), m->sat,
-                                        0, NULL, NULL),
-                    "shadow: read tables", e))
-        rc = -1;
-done:
-    if (br) clReleaseMemObject(br);
-    if (bz) clReleaseMemObject(bz);
-    if (bb) clReleaseMemObject(bb);
-    return rc;
-}
-
-int sl_shadow_build(sl_device *dev, const sl_hair *h, const double dir[3], double lambda,
-                    const sl_shadow_opts *o, sl_dodm *m, sl_err *e) {
-    memset(m, 0, sizeof *m);
+static int prep_make(const sl_hair *h, const sl_shadow_opts *o, prep *p, sl_err *e) {
+    memset(p, 0, sizeof *p);
     if (o->size < 2 || o->size > SL_SHADOW_MAX_SIZE)
         return sl_fail(e, "shadow: map size %d is out of range [2, %d]", o->size,
                        SL_SHADOW_MAX_SIZE);
@@ -173,51 +125,396 @@ int sl_shadow_build(sl_device *dev, const sl_hair *h, const double dir[3], doubl
                        SL_SHADOW_MAX_LAYERS);
     if (!(o->kappa > 0 && o->kappa <= 1))
         return sl_fail(e, "shadow: kappa %g is out of range (0, 1]", o->kappa);
-    if (!(dot3(dir, dir) > 0)) return sl_fail(e, "shadow: lobe direction is zero");
-    float lo[3], hi[3];
-    sl_hair_bounds(h, lo, hi);
+    sl_hair_bounds(h, p->lo, p->hi);
     double rmax = h->default_radius;
     if (h->radius)
         for (uint32_t i = 0; i < h->num_points; i++)
             rmax = fmax(rmax, h->radius[i]);
-    sl_light_view_setup(&m->view, dir, lo, hi, rmax / o->kappa, o->size);
+    p->margin = rmax / o->kappa;
+    sl_light_view v;
+    double dir[3] = {0, 0, 1};
+    sl_light_view_setup(&v, dir, p->lo, p->hi, p->margin, o->size);
+    p->texel = v.texel;
+    for (uint32_t s = 0; s < h->num_strands; s++)
+        if (sl_shadow_strand_kept(s, o->seed, o->kappa))
+            p->nseg += h->strand_first[s + 1] - h->strand_first[s] - 1;
+    p->seg = sl_malloc((p->nseg ? p->nseg : 1) * sizeof *p->seg);
+    p->hw = sl_malloc((p->nseg ? p->nseg : 1) * sizeof *p->hw);
+    /* Fixed point: the largest power of two keeping the map's total below 2^60 (every box sum
+     * and table entry then fits in 64 bits with room for rounding). The total is bounded by the
+     * segments' 3-D lengths (a projection is never longer), so one scale serves every lobe. */
+    double total = 0, wscale = 1.0 / o->kappa;
+    size_t k = 0;
+    for (uint32_t s = 0; s < h->num_strands; s++) {
+        if (!sl_shadow_strand_kept(s, o->seed, o->kappa)) continue;
+        for (uint32_t i = h->strand_first[s]; i + 1 < h->strand_first[s + 1]; i++, k++) {
+            const float *a = h->pos + 3 * (size_t)i;
+            double l = sqrt(((double)a[3] - a[0]) * ((double)a[3] - a[0]) +
+                            ((double)a[4] - a[1]) * ((double)a[4] - a[1]) +
+                            ((double)a[5] - a[2]) * ((double)a[5] - a[2]));
+            p->seg[k] = i;
+            p->hw[k] = (float)(seg_radius(h, i) * wscale / v.texel);
+            total += 2.0 * (double)p->hw[k] * (l / v.texel + 1.0);
+        }
+    }
+    int ex = total > 0 ? (int)floor(log2(ldexp(1.0, 60) / total)) : 0;
+    if (ex > 100) ex = 100;
+    p->scale = ldexp(1.0, ex);
+    p->z0_radius =
+        o->z0_radius < 0 ? 0
+        : o->z0_radius > 0
+            ? (o->z0_radius > SL_SHADOW_Z0_MAX_RADIUS ? SL_SHADOW_Z0_MAX_RADIUS : o->z0_radius)
+            : auto_z0_radius(h, o->kappa, v.texel);
+    return 0;
+}
+
+/* One lobe's description: view, layer depth d from the kept hair's depth extent, box growth,
+ * and the float view / lookup parameters the kernels take. */
+static int lobe_setup(const sl_hair *h, const prep *p, const sl_shadow_opts *o, const double dir[3],
+                      double lambda, sl_dodm *m, float *view, float *param, sl_err *e) {
+    memset(m, 0, sizeof *m);
+    if (!(dot3(dir, dir) > 0) || !isfinite(dot3(dir, dir)))
+        return sl_fail(e, "shadow: lobe direction is zero");
+    sl_light_view_setup(&m->view, dir, p->lo, p->hi, p->margin, o->size);
     m->K = (unsigned)o->layers;
-    float *recs;
-    double zr[2];
-    size_t nseg = make_records(h, &m->view, o, &recs, &m->scale, zr, &m->samples);
-    m->segments = nseg;
-    m->inv_scale = (float)(1.0 / m->scale);
-    /* d from the hair's depth extent: the last boundary K (K + 1) d / 2 reaches its far end. */
-    double ext = nseg ? zr[1] - zr[0] : 0;
+    m->z0_radius = p->z0_radius;
+    m->scale = p->scale;
+    m->inv_scale = (float)(1.0 / p->scale);
+    m->segments = p->nseg;
+    double z[2] = {INFINITY, -INFINITY};
+    for (size_t k = 0; k < p->nseg; k++)
+        for (int c = 0; c < 2; c++) {
+            const float *a = h->pos + 3 * ((size_t)p->seg[k] + c);
+            double q = ((double)a[0] - m->view.origin[0]) * m->view.ez[0] +
+                       ((double)a[1] - m->view.origin[1]) * m->view.ez[1] +
+                       ((double)a[2] - m->view.origin[2]) * m->view.ez[2];
+            z[0] = fmin(z[0], q);
+            z[1] = fmax(z[1], q);
+        }
+    /* d from the depth extent: the last boundary K (K + 1) d / 2 reaches the far end. */
+    double ext = p->nseg ? z[1] - z[0] : 0;
     double d = 2.0 * ext / (m->K * (m->K + 1.0));
     m->d = (float)fmax(d * (1 + 1e-6), 1e-6 * m->view.texel);
     double alpha = sl_shadow_support_angle(lambda);
     m->rfac = alpha >= M_PI / 2 ? INFINITY : (float)(tan(alpha) / (2 * m->view.texel));
-    size_t plane = (size_t)m->view.w * m->view.h;
-    m->z0bits = sl_malloc(plane * sizeof *m->z0bits);
-    m->sat = sl_malloc(m->K * plane * sizeof *m->sat);
+    for (int c = 0; c < 3; c++) {
+        view[c] = (float)m->view.origin[c];
+        view[3 + c] = (float)(m->view.ex[c] / m->view.texel);
+        view[6 + c] = (float)(m->view.ey[c] / m->view.texel);
+        view[9 + c] = (float)m->view.ez[c];
+    }
+    param[0] = m->d;
+    param[1] = m->rfac;
+    param[2] = m->inv_scale;
+    param[3] = 0;
+    return 0;
+}
+
+/* One launch's lobes l0 .. l0 + nl - 1 and where their maps live. */
+struct sl_shadow_group {
+    unsigned l0, nl;
+    float *views, *params; /* nl * SL_RASTER_VIEW, nl * SL_DODM_PARAMS */
+    uint32_t *z0;          /* C path: nl planes */
+    uint64_t *sat;         /* C path: nl * K planes */
+    cl_mem bz, bs, bviews, bparams;
+};
+
+static void group_release(struct sl_shadow_group *g) {
+    free(g->views);
+    free(g->params);
+    free(g->z0);
+    free(g->sat);
+    if (g->bz) clReleaseMemObject(g->bz);
+    if (g->bs) clReleaseMemObject(g->bs);
+    if (g->bviews) clReleaseMemObject(g->bviews);
+    if (g->bparams) clReleaseMemObject(g->bparams);
+    memset(g, 0, sizeof *g);
+}
+
+void sl_shadow_batch_free(sl_shadow_batch *b) {
+    for (int i = 0; i < b->ngroups; i++)
+        group_release(&b->group[i]);
+    free(b->group);
+    free(b->map);
+    memset(b, 0, sizeof *b);
+}
+
+static cl_mem upload(sl_cl *cl, const void *p, size_t bytes, const char *what, sl_err *e) {
+    cl_int err;
+    static const char zero[16];
+    cl_mem m = clCreateBuffer(sl_cl_context(cl), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                              bytes ? bytes : sizeof zero, bytes ? (void *)p : (void *)zero, &err);
+    if (err != CL_SUCCESS) {
+        sl_cl_check(err, what, e);
+        return NULL;
+    }
+    return m;
+}
+
+/* The device light pass: the hair uploaded once, then per group of up to SL_SHADOW_BATCH lobes
+ * one launch of each kernel (projection, z0, window, layers, tables); the maps stay on the
+ * device. */
+static int build_cl(sl_cl *cl, const sl_hair *h, const prep *p, sl_shadow_batch *b, sl_err *e) {
+    cl_context ctx = sl_cl_context(cl);
+    const int w = b->map[0].view.w, hh = b->map[0].view.h;
+    const size_t plane = (size_t)w * hh;
+    const unsigned K = b->map[0].K;
+    const unsigned nmax = b->n < SL_SHADOW_BATCH ? (unsigned)b->n : SL_SHADOW_BATCH;
+    cl_int err;
+    cl_mem bpos = NULL, bseg = NULL, bhw = NULL, brec = NULL, bd = NULL;
+    int rc = -1;
+    sl_cl_timer t;
+    sl_cl_timer_start(&t, cl);
+    double t0 = sl_now();
+    if (!(bpos =
+              upload(cl, h->pos, 3 * (size_t)h->num_points * sizeof(float), "shadow: points", e)) ||
+        !(bseg = upload(cl, p->seg, p->nseg * sizeof *p->seg, "shadow: segments", e)) ||
+        !(bhw = upload(cl, p->hw, p->nseg * sizeof *p->hw, "shadow: widths", e)))
+        goto done;
+    brec =
+        clCreateBuffer(ctx, CL_MEM_READ_WRITE,
+                       (p->nseg ? p->nseg : 1) * nmax * SL_RASTER_REC * sizeof(float), NULL, &err);
+    if (sl_cl_check(err, "shadow: clCreateBuffer(records)", e)) goto done;
+    b->upload_s = sl_now() - t0;
+    for (int gi = 0; gi < b->ngroups; gi++) {
+        struct sl_shadow_group *g = &b->group[gi];
+        float d[SL_SHADOW_BATCH];
+        for (unsigned l = 0; l < g->nl; l++)
+            d[l] = g->params[l * SL_DODM_PARAMS];
+        if (bd) clReleaseMemObject(bd);
+        bd = NULL;
+        if (!(g->bviews = upload(cl, g->views, g->nl * SL_RASTER_VIEW * sizeof(float),
+                                 "shadow: views", e)) ||
+            !(g->bparams = upload(cl, g->params, g->nl * SL_DODM_PARAMS * sizeof(float),
+                                  "shadow: parameters", e)) ||
+            !(bd = upload(cl, d, g->nl * sizeof(float), "shadow: layer depths", e)))
+            goto done;
+        g->bz = clCreateBuffer(ctx, CL_MEM_READ_WRITE, g->nl * plane * sizeof(cl_uint), NULL, &err);
+        if (sl_cl_check(err, "shadow: clCreateBuffer(z0)", e)) goto done;
+        g->bs = clCreateBuffer(ctx, CL_MEM_READ_WRITE, (size_t)g->nl * K * plane * sizeof(cl_ulong),
+                               NULL, &err);
+        if (sl_cl_check(err, "shadow: clCreateBuffer(tables)", e)) goto done;
+        sl_cl_timer_start(&t, cl);
+        rc = slcl_raster_project_buf(cl, bpos, bseg, bhw, g->bviews, p->nseg, g->nl,
+                                     (float)p->scale, brec, &t, e);
+        b->project_s += sl_cl_timer_stop(&t, NULL);
+        if (rc) goto done;
+        sl_cl_timer_start(&t, cl);
+        rc = slcl_raster_buf(cl, brec, p->nseg, g->nl, w, hh, K, bd, p->z0_radius, g->bz, g->bs, &t,
+                             e);
+        b->raster_s += sl_cl_timer_stop(&t, NULL);
+        if (rc) goto done;
+        sl_cl_timer_start(&t, cl);
+        rc = slcl_dodm_tables_buf(cl, g->bs, w, hh, K, g->nl, &t, e);
+        b->tables_s += sl_cl_timer_stop(&t, NULL);
+        if (rc) goto done;
+    }
+    rc = 0;
+done:
+    if (bpos) clReleaseMemObject(bpos);
+    if (bseg) clReleaseMemObject(bseg);
+    if (bhw) clReleaseMemObject(bhw);
+    if (brec) clReleaseMemObject(brec);
+    if (bd) clReleaseMemObject(bd);
+    return rc;
+}
+
+/* The C twin of build_cl: the same records (slc_raster_project), then per lobe the passes. */
+static void build_c(const sl_hair *h, const prep *p, sl_shadow_batch *b) {
+    const int w = b->map[0].view.w, hh = b->map[0].view.h;
+    const size_t plane = (size_t)w * hh;
+    const unsigned K = b->map[0].K;
+    const unsigned nmax = b->n < SL_SHADOW_BATCH ? (unsigned)b->n : SL_SHADOW_BATCH;
+    float *recs = sl_malloc((p->nseg ? p->nseg : 1) * nmax * SL_RASTER_REC * sizeof *recs);
+    uint32_t *tmp = sl_malloc(plane * sizeof *tmp);
+    for (int gi = 0; gi < b->ngroups; gi++) {
+        struct sl_shadow_group *g = &b->group[gi];
+        g->z0 = sl_malloc(g->nl * plane * sizeof *g->z0);
+        g->sat = sl_malloc((size_t)g->nl * K * plane * sizeof *g->sat);
+        double t0 = sl_now();
+        slc_raster_project(h->pos, p->seg, p->hw, g->views, p->nseg, g->nl, (float)p->scale, recs);
+        double t1 = sl_now();
+        b->project_s += t1 - t0;
+        for (unsigned l = 0; l < g->nl; l++) {
+            const float *r = recs + (size_t)l * p->nseg * SL_RASTER_REC;
+            uint32_t *z0 = g->z0 + l * plane;
+            uint64_t *sat = g->sat + (size_t)l * K * plane;
+            double t2 = sl_now();
+            slc_raster_z0(r, p->nseg, w, hh, z0);
+            slc_raster_z0_dilate(z0, w, hh, p->z0_radius, tmp);
+            slc_raster_layers(r, p->nseg, w, hh, K, g->params[l * SL_DODM_PARAMS], z0, sat);
+            double t3 = sl_now();
+            slc_dodm_cumulate(sat, plane, K);
+            slc_dodm_sat(sat, w, hh, K);
+            b->raster_s += t3 - t2;
+            b->tables_s += sl_now() - t3;
+            sl_dodm *m = &b->map[g->l0 + l];
+            for (size_t s = 0; s < p->nseg; s++)
+                m->samples += (size_t)r[s * SL_RASTER_REC + 9] * (size_t)r[s * SL_RASTER_REC + 10];
+        }
+    }
+    free(recs);
+    free(tmp);
+}
+
+int sl_shadow_build_batch(sl_device *dev, const sl_hair *h, int n, const double *dirs,
+                          const double *lambdas, const sl_shadow_opts *o, sl_shadow_batch *b,
+                          sl_err *e) {
+    memset(b, 0, sizeof *b);
+    if (n < 1) return sl_fail(e, "shadow: a batch needs at least one lobe (got %d)", n);
+    prep p;
+    if (prep_make(h, o, &p, e)) return -1;
+    b->n = n;
+    b->map = sl_malloc((size_t)n * sizeof *b->map);
+    b->ngroups = (n + SL_SHADOW_BATCH - 1) / SL_SHADOW_BATCH;
+    b->group = sl_malloc((size_t)b->ngroups * sizeof *b->group);
+    memset(b->group, 0, (size_t)b->ngroups * sizeof *b->group);
+    for (int gi = 0; gi < b->ngroups; gi++) {
+        struct sl_shadow_group *g = &b->group[gi];
+        g->l0 = (unsigned)gi * SL_SHADOW_BATCH;
+        g->nl = (unsigned)(n - (int)g->l0 < SL_SHADOW_BATCH ? n - (int)g->l0 : SL_SHADOW_BATCH);
+        g->views = sl_malloc(g->nl * SL_RASTER_VIEW * sizeof *g->views);
+        g->params = sl_malloc(g->nl * SL_DODM_PARAMS * sizeof *g->params);
+        for (unsigned l = 0; l < g->nl; l++)
+            if (lobe_setup(h, &p, o, dirs + 3 * (g->l0 + l), lambdas[g->l0 + l], &b->map[g->l0 + l],
+                           g->views + l * SL_RASTER_VIEW, g->params + l * SL_DODM_PARAMS, e)) {
+                prep_free(&p);
+                sl_shadow_batch_free(b);
+                return -1;
+            }
+    }
     if (dev->is_opencl) {
-        int rc = build_cl(dev->cl, recs, nseg, m, e);
+        int rc = build_cl(dev->cl, h, &p, b, e);
         if (rc == 0) {
-            free(recs);
+            b->cl = dev->cl;
+            b->on_device = 1;
+            prep_free(&p);
             return 0;
         }
+        for (int gi = 0; gi < b->ngroups; gi++) { /* drop the partial device maps */
+            struct sl_shadow_group *g = &b->group[gi];
+            cl_mem *ms[] = {&g->bz, &g->bs, &g->bviews, &g->bparams};
+            for (int i = 0; i < 4; i++)
+                if (*ms[i]) clReleaseMemObject(*ms[i]), *ms[i] = NULL;
+        }
+        b->project_s = b->raster_s = b->tables_s = b->upload_s = 0;
         if (!sl_device_try_fallback(dev, rc, e)) {
-            free(recs);
-            sl_dodm_free(m);
+            prep_free(&p);
+            sl_shadow_batch_free(b);
             return -1;
         }
     }
-    double t0 = sl_now();
-    slc_raster_z0(recs, nseg, m->view.w, m->view.h, m->z0bits);
-    slc_raster_layers(recs, nseg, m->view.w, m->view.h, m->K, m->d, m->z0bits, m->sat);
-    double t1 = sl_now();
-    slc_dodm_cumulate(m->sat, plane, m->K);
-    slc_dodm_sat(m->sat, m->view.w, m->view.h, m->K);
-    m->raster_s = t1 - t0;
-    m->tables_s = sl_now() - t1;
-    free(recs);
+    build_c(h, &p, b);
+    prep_free(&p);
     return 0;
+}
+
+int sl_shadow_batch_lookup(const sl_shadow_batch *b, size_t n, const double *xyz, const int *lobe,
+                           double *T, sl_err *e) {
+    if (lobe)
+        for (size_t i = 0; i < n; i++)
+            if (lobe[i] < 0 || lobe[i] >= b->n)
+                return sl_fail(e, "shadow: point %zu: lobe %d is out of range [0, %d)", i, lobe[i],
+                               b->n);
+    if (n == 0) return 0;
+    const int w = b->map[0].view.w, hh = b->map[0].view.h;
+    const unsigned K = b->map[0].K;
+    const size_t nout = lobe ? n : n * (size_t)b->n;
+    float *pts = sl_malloc(3 * n * sizeof *pts), *t = sl_malloc(nout * sizeof *t);
+    uint32_t *lb = lobe ? sl_malloc(n * sizeof *lb) : NULL;
+    for (size_t i = 0; i < 3 * n; i++)
+        pts[i] = (float)xyz[i];
+    for (size_t i = 0; lobe && i < n; i++)
+        lb[i] = (uint32_t)lobe[i];
+    int rc = 0;
+    if (!b->on_device) {
+        for (int gi = 0; gi < b->ngroups; gi++) {
+            const struct sl_shadow_group *g = &b->group[gi];
+            slc_dodm_lookup_lobes(g->z0, g->sat, w, hh, K, g->params, g->views, pts, lb, n, g->nl,
+                                  g->l0, (size_t)b->n, t);
+        }
+    } else {
+        sl_cl *cl = b->cl;
+        cl_int err;
+        cl_mem bp = NULL, bl = NULL, bt = NULL;
+        rc = -1;
+        if (!(bp = upload(cl, pts, 3 * n * sizeof *pts, "shadow: lookup points", e))) goto done;
+        if (lb && !(bl = upload(cl, lb, n * sizeof *lb, "shadow: lookup lobes", e))) goto done;
+        bt = clCreateBuffer(sl_cl_context(cl), CL_MEM_WRITE_ONLY, nout * sizeof *t, NULL, &err);
+        if (sl_cl_check(err, "shadow: clCreateBuffer(T)", e)) goto done;
+        for (int gi = 0; gi < b->ngroups; gi++) {
+            const struct sl_shadow_group *g = &b->group[gi];
+            if (slcl_dodm_lookup_lobes_buf(cl, g->bz, g->bs, w, hh, K, g->bparams, g->bviews, bp,
+                                           bl, n, g->nl, g->l0, (size_t)b->n, bt, NULL, e))
+                goto done;
+        }
+        if (sl_cl_check(clEnqueueReadBuffer(sl_cl_queue(cl), bt, CL_TRUE, 0, nout * sizeof *t, t, 0,
+                                            NULL, NULL),
+                        "shadow: read T", e))
+            goto done;
+        rc = 0;
+    done:
+        if (bp) clReleaseMemObject(bp);
+        if (bl) clReleaseMemObject(bl);
+        if (bt) clReleaseMemObject(bt);
+    }
+    if (!rc)
+        for (size_t i = 0; i < nout; i++)
+            T[i] = t[i];
+    free(pts);
+    free(t);
+    free(lb);
+    return rc;
+}
+
+int sl_shadow_batch_read(const sl_shadow_batch *b, int j, uint32_t *z0bits, uint64_t *sat,
+                         sl_err *e) {
+    if (j < 0 || j >= b->n) return sl_fail(e, "shadow: lobe %d is out of range [0, %d)", j, b->n);
+    const struct sl_shadow_group *g = &b->group[j / SL_SHADOW_BATCH];
+    const unsigned l = (unsigned)j - g->l0, K = b->map[j].K;
+    const size_t plane = (size_t)b->map[j].view.w * b->map[j].view.h;
+    if (!b->on_device) {
+        memcpy(z0bits, g->z0 + l * plane, plane * sizeof *z0bits);
+        memcpy(sat, g->sat + (size_t)l * K * plane, K * plane * sizeof *sat);
+        return 0;
+    }
+    cl_command_queue q = sl_cl_queue(b->cl);
+    if (sl_cl_check(clEnqueueReadBuffer(q, g->bz, CL_TRUE, l * plane * sizeof(cl_uint),
+                                        plane * sizeof(cl_uint), z0bits, 0, NULL, NULL),
+                    "shadow: read z0", e) ||
+        sl_cl_check(clEnqueueReadBuffer(q, g->bs, CL_TRUE, (size_t)l * K * plane * sizeof(cl_ulong),
+                                        K * plane * sizeof(cl_ulong), sat, 0, NULL, NULL),
+                    "shadow: read tables", e))
+        return -1;
+    return 0;
+}
+
+int sl_shadow_build(sl_device *dev, const sl_hair *h, const double dir[3], double lambda,
+                    const sl_shadow_opts *o, sl_dodm *m, sl_err *e) {
+    sl_shadow_batch b;
+    memset(m, 0, sizeof *m);
+    if (sl_shadow_build_batch(dev, h, 1, dir, &lambda, o, &b, e)) return -1;
+    *m = b.map[0];
+    m->raster_s = b.project_s + b.raster_s;
+    m->tables_s = b.tables_s;
+    const size_t plane = (size_t)m->view.w * m->view.h;
+    struct sl_shadow_group *g = &b.group[0];
+    int rc = 0;
+    if (!b.on_device) { /* the C path's maps change hands */
+        m->z0bits = g->z0;
+        m->sat = g->sat;
+        g->z0 = NULL;
+        g->sat = NULL;
+    } else {
+        m->z0bits = sl_malloc(plane * sizeof *m->z0bits);
+        m->sat = sl_malloc(m->K * plane * sizeof *m->sat);
+        if (sl_shadow_batch_read(&b, 0, m->z0bits, m->sat, e)) {
+            sl_dodm_free(m);
+            rc = -1;
+        }
+    }
+    sl_shadow_batch_free(&b);
+    return rc;
 }
 
 int sl_shadow_lookup(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz, double *T,

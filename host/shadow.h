@@ -11,7 +11,17 @@
  *   sl_dodm_free(&m);
  *
  * Both run on the device (OpenCL kernels raster.cl, dodm.cl) or the C twins, with the usual
- * fallback under `auto` (docs/opencl.md). docs/shadow.md has the details and measured errors. */
+ * fallback under `auto` (docs/opencl.md). docs/shadow.md has the details and measured errors.
+ *
+ * Many lobes (the renderer): one build for all of them, SL_SHADOW_BATCH lobes per kernel launch
+ * (Ren 2010 Sec. 5), the hair uploaded once and projected on the device, the maps left where
+ * they were built (device memory, or host memory on the C path) for the lookups:
+ *
+ *   sl_shadow_batch b;
+ *   if (sl_shadow_build_batch(&dev, hair, nlobes, dirs, lambdas, &o, &b, &e)) ...;
+ *   sl_shadow_batch_lookup(&b, n, xyz, NULL, T, &e);  // T[i * nlobes + j]: every lobe
+ *   sl_shadow_batch_lookup(&b, n, xyz, lobe, T, &e);  // T[i]: point i toward lobe[i]
+ *   sl_shadow_batch_free(&b); */
 #ifndef SL_SHADOW_H
 #define SL_SHADOW_H
 
@@ -26,12 +36,23 @@
 #define SL_SHADOW_MAX_SIZE 8192
 /* SRBF support threshold (Ren 2010 Sec. 5): G(alpha) = this defines the support angle alpha. */
 #define SL_SHADOW_SUPPORT_G 1e-3
+/* Lobes rasterized per kernel launch (Ren 2010 uses 16). */
+#define SL_SHADOW_BATCH 16
+/* Automatic first-depth window (sl_shadow_opts.z0_radius = 0): the min filter of z0 spans about
+ * this many fiber widths (2 r / kappa), so a texel's layers start where the first of the fibers
+ * over that window lies; the optical depth missed above the layers is ~1 / (this + 1)
+ * (docs/shadow.md). Capped at SL_SHADOW_Z0_MAX_RADIUS texels. */
+#define SL_SHADOW_Z0_FIBERS 30.0
+#define SL_SHADOW_Z0_MAX_RADIUS 32
 
 typedef struct sl_shadow_opts {
     int size;     /* map width = height in texels */
     int layers;   /* K */
     double kappa; /* stochastic simplification: the fraction of strands kept, (0, 1] */
     uint32_t seed;
+    /* Half-size (texels) of the min filter applied to the first-depth map z0 before the layers
+     * are filled: 0 = automatic (SL_SHADOW_Z0_FIBERS), < 0 = none (Ren's per-texel z0). */
+    int z0_radius;
 } sl_shadow_opts;
 
 /* An orthographic light view: world p -> (u, v) texels = ((p - origin).ex, (p - origin).ey) /
@@ -49,9 +70,10 @@ typedef struct sl_dodm {
     float rfac;      /* tan(alpha) / (2 texel): box half-size in texels per unit depth below z0 */
     float inv_scale; /* fixed point -> optical depth */
     double scale;
+    int z0_radius;             /* the min filter used on z0 (texels; 0 = none) */
     uint32_t *z0bits;          /* w * h */
     uint64_t *sat;             /* K * w * h */
-    size_t segments, samples;  /* rasterized (after simplification) */
+    size_t segments, samples;  /* rasterized (after simplification); samples: C path only */
     double raster_s, tables_s; /* device or C time of the two steps */
 } sl_dodm;
 
@@ -78,5 +100,34 @@ int sl_shadow_build(sl_device *dev, const sl_hair *h, const double dir[3], doubl
 int sl_shadow_lookup(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz, double *T,
                      sl_err *e);
 void sl_dodm_free(sl_dodm *m);
+
+typedef struct sl_shadow_group sl_shadow_group; /* one launch's lobes and maps (shadow.c) */
+
+typedef struct sl_shadow_batch {
+    int n;        /* lobes */
+    sl_dodm *map; /* n descriptions (view, K, d, rfac, z0_radius, ...); their z0bits and sat are
+                     NULL: the maps live in the groups (on the device when on_device) */
+    int ngroups;
+    sl_shadow_group *group;
+    int on_device; /* built and looked up with the OpenCL kernels on cl */
+    sl_cl *cl;
+    /* device time (profiling events; wall time on the C path) of each step, all groups */
+    double upload_s, project_s, raster_s, tables_s;
+} sl_shadow_batch;
+
+/* Light pass of n lobes: dirs (3 n doubles, unit vectors toward the light), lambdas (n). On
+ * dev (OpenCL, or C; `auto` falls back to C as for sl_shadow_build). Every lobe's map equals the
+ * one sl_shadow_build gives for it alone. */
+int sl_shadow_build_batch(sl_device *dev, const sl_hair *h, int n, const double *dirs,
+                          const double *lambdas, const sl_shadow_opts *o, sl_shadow_batch *b,
+                          sl_err *e);
+/* T at n world points (xyz: 3 n doubles), where the batch was built. lobe == NULL: toward every
+ * lobe, T[i * b->n + j] (n * b->n values); else point i toward lobe[i] (0 .. b->n - 1), T[i]. */
+int sl_shadow_batch_lookup(const sl_shadow_batch *b, size_t n, const double *xyz, const int *lobe,
+                           double *T, sl_err *e);
+/* Copies lobe j's maps to host memory: z0bits (w * h), sat (K * w * h) (tests, debugging). */
+int sl_shadow_batch_read(const sl_shadow_batch *b, int j, uint32_t *z0bits, uint64_t *sat,
+                         sl_err *e);
+void sl_shadow_batch_free(sl_shadow_batch *b);
 
 #endif

@@ -1,6 +1,7 @@
 /* shadow_eval.c: `eval transmittance`: loads the scene's hair and SRBF lobes and evaluates the
  * effective transmittance per row: the ray-traced reference (cpu/reference/transmittance_ref.h)
- * or the light pass (shadow.h) on the C twin or the OpenCL kernels, one light pass per lobe. */
+ * or the light pass (shadow.h) on the C twin or the OpenCL kernels: one batched light pass for
+ * all the lobes the rows use (sl_shadow_build_batch). */
 #include "shadow_eval.h"
 
 #include "scene_hair.h"
@@ -11,6 +12,7 @@
 #include "transmittance_ref.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -63,32 +65,51 @@ int sl_shadow_eval_transmittance(const char *scene_path, sl_eval_backend b, sl_c
     }
     sl_shadow_opts o;
     sl_shadow_opts_default(&o);
+    if (s->shadow_size > 0) o.size = s->shadow_size;
     if (s->layers > 0) o.layers = s->layers;
     if (s->kappa > 0 && s->kappa <= 1) o.kappa = s->kappa;
-    double *xyz = sl_malloc(3 * n * sizeof *xyz), *T = sl_malloc(n * sizeof *T);
-    size_t *idx = sl_malloc(n * sizeof *idx);
-    rc = 0;
-    for (int j = 0; j < lobes.count && !rc; j++) {
-        size_t m = 0;
-        for (size_t i = 0; i < n; i++)
-            if ((int)in[4 * i + 3] == j) {
-                memcpy(xyz + 3 * m, in + 4 * i, 3 * sizeof *xyz);
-                idx[m++] = i;
-            }
-        if (!m) continue;
-        sl_dodm map;
-        if (sl_shadow_build(&dev, &h, lobes.lobe[j].dir, lobes.lobe[j].lambda, &o, &map, e)) {
-            rc = -1;
-            break;
+    /* one batched light pass for the lobes the rows use (maps stay on the device), then one
+     * lookup of every row toward its own lobe */
+    int *used = sl_malloc((size_t)lobes.count * sizeof *used), nused = 0;
+    double *dirs = sl_malloc(3 * (size_t)lobes.count * sizeof *dirs),
+           *lam = sl_malloc((size_t)lobes.count * sizeof *lam);
+    int *lb = sl_malloc(n * sizeof *lb);
+    for (int j = 0; j < lobes.count; j++)
+        used[j] = -1;
+    for (size_t i = 0; i < n; i++) {
+        int j = (int)in[4 * i + 3];
+        if (used[j] < 0) {
+            used[j] = nused;
+            memcpy(dirs + 3 * nused, lobes.lobe[j].dir, 3 * sizeof *dirs);
+            lam[nused++] = lobes.lobe[j].lambda;
         }
-        rc = sl_shadow_lookup(&dev, &map, m, xyz, T, e);
-        sl_dodm_free(&map);
-        for (size_t k = 0; k < m && !rc; k++)
-            out[idx[k]] = T[k];
+        lb[i] = used[j];
     }
+    double *xyz = sl_malloc(3 * n * sizeof *xyz);
+    for (size_t i = 0; i < n; i++)
+        memcpy(xyz + 3 * i, in + 4 * i, 3 * sizeof *xyz);
+    sl_shadow_batch sb;
+    double t0 = sl_now();
+    rc = sl_shadow_build_batch(&dev, &h, nused, dirs, lam, &o, &sb, e);
+    if (!rc) {
+        double t1 = sl_now();
+        rc = sl_shadow_batch_lookup(&sb, n, xyz, lb, out, e);
+        double t2 = sl_now();
+        /* SL_SHADOW_TIMES=1 (test/bench_shadow.sh): one line of light-pass times on stderr */
+        const char *tv = getenv("SL_SHADOW_TIMES");
+        if (!rc && tv && tv[0] == '1')
+            fprintf(stderr,
+                    "shadow-times lobes=%d size=%d K=%d segments=%zu device=%d wall_build=%.4f "
+                    "upload=%.4f project=%.4f raster=%.4f tables=%.4f wall_lookup=%.4f\n",
+                    nused, o.size, o.layers, sb.map[0].segments, sb.on_device, t1 - t0, sb.upload_s,
+                    sb.project_s, sb.raster_s, sb.tables_s, t2 - t1);
+        sl_shadow_batch_free(&sb);
+    }
+    free(used);
+    free(dirs);
+    free(lam);
+    free(lb);
     free(xyz);
-    free(T);
-    free(idx);
 done:
     sl_lobes_free(&lobes);
     sl_hair_free(&h);

@@ -8,11 +8,16 @@
 
 #include "clrt.h"
 #include "fiber_params.h"
+#include "kernel_checks.h"
 #include "srbf_tables.h"
 
 /* in: 5 floats per row (theta_o, phi_o, theta_j, phi_j, lambda); out: I_R, I_TT, I_TRT, I.
  * method: SL_SRBF_METHOD_XU or _FAST (cpu/srbf_c.h); segments 1..8. */
 int slcl_srbf_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *t, int method,
                     int segments, size_t n, const float *in, float *out, sl_err *e);
+
+/* The kernel check of `strandlight kernels` (host/kernel_checks.c): srbf_eval.cl vs the C twin
+ * (o->size: number of lobes, default 4096). */
+int slchk_srbf(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
 
 #endif

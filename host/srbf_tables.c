@@ -11,6 +11,7 @@
 #include "fiber_common_d.h"
 #include "srbf_c.h"
 #include "srbf_cl.h"
+#include "srbf_fast.h"
 #include "srbf_xu.h"
 
 #include <math.h>
@@ -135,6 +136,221 @@ static double td_of(double i) {
     return 0.5 * PI * i / (SL_SRBF_NTD - 1);
 }
 
+/* ---- W: the fast path's azimuthal product-quadrature weights (kernels/srbf_xu.h) ---- */
+
+/* Lagrange basis L_i(c) on the nodes sl_srbf_w_c. */
+static void w_lagrange(double c, double L[SL_SRBF_W_NODES]) {
+    for (int i = 0; i < SL_SRBF_W_NODES; i++) {
+        double v = 1.0;
+        for (int j = 0; j < SL_SRBF_W_NODES; j++)
+            if (j != i) v *= (c - sl_srbf_w_c[j]) / ((double)sl_srbf_w_c[i] - sl_srbf_w_c[j]);
+        L[i] = v;
+    }
+}
+
+/* Phi(p, h) with h = sin u: 2p asin(x sin u) - 2u + p pi, wrapped to [-pi, pi). */
+static double w_Phi(int p, double x, double u) {
+    double v = 2.0 * p * asin(x * sin(u)) - 2.0 * u + p * PI;
+    return v - 2.0 * PI * floor((v + PI) / (2.0 * PI));
+}
+
+/* The histogram of the root sum: bins of width 2 pi / nb centred on -pi + b d; weights
+ * 1/2 L_i(cos u) cos u du of a midpoint rule in u (ns steps), split linearly between the two
+ * nearest bins. hist: nb * SL_SRBF_W_NODES, [b][i]. */
+static void w_histogram(int p, double x, int nb, int ns, double *hist) {
+    memset(hist, 0, (size_t)nb * SL_SRBF_W_NODES * sizeof *hist);
+    double du = PI / ns, d = 2.0 * PI / nb;
+    for (int k = 0; k < ns; k++) {
+        double u = -0.5 * PI + (k + 0.5) * du, c = cos(u), L[SL_SRBF_W_NODES];
+        w_lagrange(c, L);
+        double pos = (w_Phi(p, x, u) + PI) / d;
+        int b0 = (int)floor(pos);
+        double f = pos - b0, w = 0.5 * c * du;
+        int b1 = (b0 + 1) % nb;
+        b0 = ((b0 % nb) + nb) % nb;
+        for (int i = 0; i < SL_SRBF_W_NODES; i++) {
+            hist[b0 * SL_SRBF_W_NODES + i] += w * L[i] * (1.0 - f);
+            hist[b1 * SL_SRBF_W_NODES + i] += w * L[i] * f;
+        }
+    }
+}
+
+/* The convolution with g^c(.; 0, lam) / int g^c is done in Fourier space, where it is exact:
+ * the normalised circular Gaussian has coefficients I_n(k) / I_0(k), k = 2 / lam^2. The
+ * histogram's cosine coefficients a_n (N_p is even in phi) are divided by the tent's sinc^2 so
+ * the linear splitting between bins does not blur. */
+#define W_NB 2048
+#define W_NS 65536
+#define W_NMAX 640 /* 12 / W_LMIN = 600 harmonics carry the narrowest lobe to e^-36 */
+
+/* a[n * NODES + i] = sum_b hist[b][i] cos(n phi_b) / sinc^2(n d / 2), n = 0..W_NMAX. */
+static void w_cosines(const double *hist, const double *ct, double *a) {
+    double d = 2.0 * PI / W_NB;
+    for (int n = 0; n <= W_NMAX; n++) {
+        double acc[SL_SRBF_W_NODES] = {0};
+        for (int b = 0; b < W_NB; b++) {
+            double c = ct[(int)(((long)n * b) % W_NB)];
+            for (int i = 0; i < SL_SRBF_W_NODES; i++)
+                acc[i] += c * hist[b * SL_SRBF_W_NODES + i];
+        }
+        double sgn = (n & 1) ? -1.0 : 1.0, x = 0.5 * n * d;
+        double sinc = n ? sin(x) / x : 1.0;
+        for (int i = 0; i < SL_SRBF_W_NODES; i++)
+            a[n * SL_SRBF_W_NODES + i] = sgn * acc[i] / (sinc * sinc);
+    }
+}
+
+/* r[n] = I_n(k) / I_0(k), n = 0..W_NMAX (Miller's backward recurrence); returns the last n with
+ * r[n] > 1e-15. */
+static int w_ratios(double lam, double *r) {
+    double k = 2.0 / (lam * lam);
+    int top = 2 * W_NMAX + 60;
+    double ip1 = 0.0, in = 1e-300;
+    for (int n = top; n >= 1; n--) {
+        double im1 = ip1 + 2.0 * n / k * in; /* I_{n-1} = I_{n+1} + (2n/k) I_n */
+        ip1 = in;
+        in = im1;
+        if (n - 1 <= W_NMAX) r[n - 1] = in;
+        if (in > 1e250) { /* rescale everything kept so far */
+            for (int j = n - 1; j <= W_NMAX && j <= top; j++)
+                r[j] *= 1e-250;
+            in *= 1e-250;
+            ip1 *= 1e-250;
+        }
+    }
+    int last = 0;
+    for (int n = W_NMAX; n >= 0; n--) {
+        r[n] /= r[0] == 0.0 ? 1.0 : r[0];
+    }
+    r[0] = 1.0;
+    for (int n = 0; n <= W_NMAX; n++)
+        if (r[n] > 1e-15) last = n;
+    return last;
+}
+
+/* W at phi from the coefficients a and the ratios r (up to n = last). */
+static void w_eval(const double *a, const double *r, int last, double phi,
+                   double out[SL_SRBF_W_NODES]) {
+    double acc[SL_SRBF_W_NODES];
+    for (int i = 0; i < SL_SRBF_W_NODES; i++)
+        acc[i] = 0.5 * a[i];
+    double c1 = cos(phi), cn_1 = 1.0, cn = c1; /* cos(n phi) by the Chebyshev recurrence */
+    for (int n = 1; n <= last; n++) {
+        for (int i = 0; i < SL_SRBF_W_NODES; i++)
+            acc[i] += a[n * SL_SRBF_W_NODES + i] * r[n] * cn;
+        double nx = 2.0 * c1 * cn - cn_1;
+        cn_1 = cn;
+        cn = nx;
+    }
+    for (int i = 0; i < SL_SRBF_W_NODES; i++)
+        out[i] = acc[i] / PI;
+}
+
+static double w_x_of(double i) {
+    return i / (SL_SRBF_W_NX - 1);
+}
+static double w_lam_of(double i) {
+    return exp(log(SL_SRBF_W_LMIN) +
+               (log(SL_SRBF_LMAX) - log(SL_SRBF_W_LMIN)) * i / (SL_SRBF_W_NL - 1));
+}
+
+double sl_srbf_W_exact(int mode, int i, double x, double lam, double phi) {
+    /* independent of the grid: a direct midpoint rule in u (400000 steps) of
+     * 1/2 L_i(cos u) g^c(phi - Phi) cos u over the exact int g^c = 2 pi e^-k I0(k) */
+    int n = 400000;
+    double s = 0.0, du = PI / n;
+    for (int k = 0; k < n; k++) {
+        double u = -0.5 * PI + (k + 0.5) * du, c = cos(u), L[SL_SRBF_W_NODES];
+        w_lagrange(c, L);
+        double sd = sin(0.5 * (phi - w_Phi(mode == 2 ? 0 : mode + 1, x, u)));
+        s += 0.5 * L[i] * c * exp(-4.0 * sd * sd / (lam * lam)) * du;
+    }
+    double kk = 2.0 / (lam * lam), i0 = 0.0;
+    if (kk < 30.0) {
+        double term = 1.0;
+        i0 = 1.0;
+        for (int j = 1; j < 200; j++) {
+            term *= 0.25 * kk * kk / ((double)j * j);
+            i0 += term;
+        }
+        i0 *= exp(-kk);
+    } else {
+        double term = 1.0;
+        i0 = 1.0;
+        for (int j = 1; j < 12; j++) {
+            term *= (2.0 * j - 1) * (2.0 * j - 1) / (8.0 * kk * j);
+            i0 += term;
+        }
+        i0 /= sqrt(2.0 * PI * kk);
+    }
+    return s / (2.0 * PI * i0);
+}
+
+static void build_W(float *W, double *err) {
+    double *hist = sl_malloc((size_t)W_NB * SL_SRBF_W_NODES * sizeof *hist);
+    double *a = sl_malloc((size_t)(W_NMAX + 1) * SL_SRBF_W_NODES * sizeof *a);
+    double *ct = sl_malloc((size_t)W_NB * sizeof *ct), r[W_NMAX + 1];
+    for (int k = 0; k < W_NB; k++)
+        ct[k] = cos(2.0 * PI * k / W_NB);
+    double wmax = 0.0, e = 0.0;
+    for (int mode = 0; mode < 2; mode++)
+        for (int ix = 0; ix < SL_SRBF_W_NX; ix++) {
+            w_histogram(mode + 1, w_x_of(ix), W_NB, W_NS, hist);
+            w_cosines(hist, ct, a);
+            for (int il = 0; il < SL_SRBF_W_NL; il++) {
+                int last = w_ratios(w_lam_of(il), r);
+                for (int ip = 0; ip < SL_SRBF_W_NP; ip++) {
+                    double v[SL_SRBF_W_NODES];
+                    w_eval(a, r, last, PI * ip / (SL_SRBF_W_NP - 1), v);
+                    float *o =
+                        W + (((mode * SL_SRBF_W_NX + ix) * SL_SRBF_W_NL + il) * SL_SRBF_W_NP + ip) *
+                                SL_SRBF_W_NODES;
+                    for (int i = 0; i < SL_SRBF_W_NODES; i++) {
+                        o[i] = (float)v[i];
+                        wmax = fmax(wmax, fabs(v[i]));
+                    }
+                }
+            }
+        }
+    /* R (p = 0): one slice */
+    w_histogram(0, 0.0, W_NB, W_NS, hist);
+    w_cosines(hist, ct, a);
+    for (int il = 0; il < SL_SRBF_W_NL; il++) {
+        int last = w_ratios(w_lam_of(il), r);
+        for (int ip = 0; ip < SL_SRBF_W_NP; ip++) {
+            double v[SL_SRBF_W_NODES];
+            w_eval(a, r, last, PI * ip / (SL_SRBF_W_NP - 1), v);
+            float *o = W + SL_SRBF_W_TRT_FLOATS + (il * SL_SRBF_W_NP + ip) * SL_SRBF_W_NODES;
+            for (int i = 0; i < SL_SRBF_W_NODES; i++)
+                o[i] = (float)v[i];
+        }
+    }
+    /* error: trilinear lookup against the same construction at cell centres, on every 6th x
+     * cell, every 3rd lambda cell and every phi cell */
+    for (int mode = 0; mode < 2; mode++)
+        for (int ix = 0; ix + 1 < SL_SRBF_W_NX; ix += 6) {
+            double x = w_x_of(ix + 0.5);
+            w_histogram(mode + 1, x, W_NB, W_NS, hist);
+            w_cosines(hist, ct, a);
+            for (int il = 0; il + 1 < SL_SRBF_W_NL; il += 3) {
+                double lam = w_lam_of(il + 0.5);
+                int last = w_ratios(lam, r);
+                for (int ip = 0; ip + 1 < SL_SRBF_W_NP; ip++) {
+                    double v[SL_SRBF_W_NODES], phi = PI * (ip + 0.5) / (SL_SRBF_W_NP - 1);
+                    w_eval(a, r, last, phi, v);
+                    float got[SL_SRBF_W_NODES];
+                    sl_srbf_W(W - SL_SRBF_HK_FLOATS, mode, (float)x, (float)lam, (float)phi, got);
+                    for (int i = 0; i < SL_SRBF_W_NODES; i++)
+                        e = fmax(e, fabs(got[i] - v[i]));
+                }
+            }
+        }
+    *err = e / wmax;
+    free(hist);
+    free(a);
+    free(ct);
+}
+
 void sl_srbf_tables_build(sl_srbf_tables *t) {
     double gx[NGL], gw[NGL];
     gauss_legendre(NGL, gx, gw);
@@ -189,6 +405,9 @@ void sl_srbf_tables_build(sl_srbf_tables *t) {
                 }
     t->build_s_H = sl_now() - t1;
     t->err_H = err;
+    double t2 = sl_now();
+    build_W(t->H + SL_SRBF_HK_FLOATS, &t->err_W);
+    t->build_s_W = sl_now() - t2;
 }
 
 void sl_srbf_tables_free(sl_srbf_tables *t) {
@@ -199,23 +418,26 @@ void sl_srbf_tables_free(sl_srbf_tables *t) {
 
 /* ---- disk cache ---- */
 
-#define MAGIC "SLSRBFT1"
+#define MAGIC "SLSRBFT2"
 
 typedef struct cache_head {
     char magic[8];
     uint64_t key, sum;
-    double build_s_C, build_s_H, err_C, err_H;
+    double build_s_C, build_s_H, err_C, err_H, build_s_W, err_W;
 } cache_head;
 
 /* Hash of everything that defines the tables' contents. */
 static uint64_t tables_key(void) {
-    char def[512];
+    char def[1024];
     snprintf(def, sizeof def,
-             "strandlight srbf tables v1: C_k normalised k0..6 NL=%d NPHI=%d lam=[%.9g,%.9g] log, "
+             "strandlight srbf tables v2 (W with R): C_k normalised k0..6 NL=%d NPHI=%d "
+             "lam=[%.9g,%.9g] log, "
              "phi=[0,pi]; H_k TT/TRT exact/schlick NETA=%d NTD=%d eta=[%.9g,%.9g] log, td=[0,pi/2];"
-             " GL%d",
+             " GL%d; W TT/TRT NX=%d NL=%d NP=%d nodes=%d lam=[%.9g,..] c-Chebyshev, hist NB=%d"
+             " NS=%d",
              SL_SRBF_NL, SL_SRBF_NPHI, (double)SL_SRBF_LMIN, (double)SL_SRBF_LMAX, SL_SRBF_NETA,
-             SL_SRBF_NTD, (double)SL_SRBF_ETAMIN, (double)SL_SRBF_ETAMAX, NGL);
+             SL_SRBF_NTD, (double)SL_SRBF_ETAMIN, (double)SL_SRBF_ETAMAX, NGL, SL_SRBF_W_NX,
+             SL_SRBF_W_NL, SL_SRBF_W_NP, SL_SRBF_W_NODES, (double)SL_SRBF_W_LMIN, W_NB, W_NS);
     return sl_hash64(def, strlen(def), 0x5352424654424c31ull);
 }
 
@@ -251,6 +473,8 @@ static int try_load(sl_srbf_tables *t, const char *path, uint64_t key) {
     t->build_s_H = h.build_s_H;
     t->err_C = h.err_C;
     t->err_H = h.err_H;
+    t->build_s_W = h.build_s_W;
+    t->err_W = h.err_W;
     t->from_cache = 1;
     return 0;
 }
@@ -271,6 +495,8 @@ static void save(const sl_srbf_tables *t, const char *path, uint64_t key) {
     h.build_s_H = t->build_s_H;
     h.err_C = t->err_C;
     h.err_H = t->err_H;
+    h.build_s_W = t->build_s_W;
+    h.err_W = t->err_W;
     int ok = fwrite(&h, sizeof h, 1, af.fp) == 1 &&
              fwrite(t->C, sizeof(float), SL_SRBF_C_FLOATS, af.fp) == SL_SRBF_C_FLOATS &&
              fwrite(t->H, sizeof(float), SL_SRBF_H_FLOATS, af.fp) == SL_SRBF_H_FLOATS;
@@ -294,10 +520,13 @@ int sl_srbf_tables_get(sl_srbf_tables *t, int verbose, sl_err *e) {
     }
     sl_srbf_tables_build(t);
     if (verbose)
-        sl_note("srbf tables built: C_k %dx%d in %.2f s (max interpolation error %.2g), H_k "
-                "2x2x%dx%d in %.2f s (max error %.2g of max H_0)%s%s",
-                SL_SRBF_NL, SL_SRBF_NPHI, t->build_s_C, t->err_C, SL_SRBF_NETA, SL_SRBF_NTD,
-                t->build_s_H, t->err_H, t->path[0] ? "; cached in " : "; not cached", t->path);
+        sl_note(
+            "srbf tables built: C_k %dx%d in %.2f s (max interpolation error %.2g), H_k "
+            "2x2x%dx%d in %.2f s (max error %.2g of max H_0), W 2x%dx%dx%d in %.2f s (max error "
+            "%.2g of max W)%s%s",
+            SL_SRBF_NL, SL_SRBF_NPHI, t->build_s_C, t->err_C, SL_SRBF_NETA, SL_SRBF_NTD,
+            t->build_s_H, t->err_H, SL_SRBF_W_NX, SL_SRBF_W_NL, SL_SRBF_W_NP, t->build_s_W,
+            t->err_W, t->path[0] ? "; cached in " : "; not cached", t->path);
     if (t->path[0]) save(t, t->path, key);
     return 0;
 }

@@ -17,13 +17,15 @@ typedef struct sl_cl sl_cl;
 
 typedef struct sl_srbf_tables {
     float *C;         /* SL_SRBF_C_FLOATS */
-    float *H;         /* SL_SRBF_H_FLOATS */
+    float *H;         /* SL_SRBF_H_FLOATS: H_k, then the fast path's W */
     double build_s_C; /* seconds it took to build each table (as stored in the cache) */
     double build_s_H;
-    double err_C;    /* max |bilinear - exact| at cell centres (C_k normalised, <= 1) */
-    double err_H;    /* the same for H_k, relative to max H_0 */
-    int from_cache;  /* 1: loaded from the disk cache */
-    char path[4096]; /* the cache file ("" when there is no cache directory) */
+    double err_C;     /* max |bilinear - exact| at cell centres (C_k normalised, <= 1) */
+    double err_H;     /* the same for H_k, relative to max H_0 */
+    double build_s_W; /* the fast path's W table (appended to H, kernels/srbf_xu.h) */
+    double err_W;     /* max |trilinear - exact| at cell centres, relative to max |W| */
+    int from_cache;   /* 1: loaded from the disk cache */
+    char path[4096];  /* the cache file ("" when there is no cache directory) */
 } sl_srbf_tables;
 
 /* Builds the tables in memory (about a second). */
@@ -39,6 +41,9 @@ void sl_srbf_tables_free(sl_srbf_tables *t);
  * H_k = int_{-1}^{1} (1-F)^2 [F if mode == 1] h^k dh (mode 0 TT, 1 TRT; schlick: Schlick F). */
 double sl_srbf_C_exact(int k, double lam, double phi);
 double sl_srbf_H_exact(int schlick, int mode, int k, double eta, double theta_d);
+/* W_i of the fast path (kernels/srbf_xu.h) by a direct quadrature (slow: 0.4 M steps), mode 0 TT
+ * / 1 TRT / 2 R, x = 1/eta' (ignored for R). */
+double sl_srbf_W_exact(int mode, int i, double x, double lam, double phi);
 
 /* `eval srbf` on a float backend: cl == NULL runs the C twin, else OpenCL. xu: 1 for Xu's
  * closed form (segments 1..8, 0 for the default 4), 0 for the fast path. in: 5 floats per row

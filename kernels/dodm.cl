@@ -6,14 +6,15 @@
 
 #include "dodm.h"
 
-/* Plane k becomes the sum of planes 0..k (per texel). */
-__kernel void sl_dodm_cumulate(__global ulong *bins, uint plane, uint K) {
-    const uint t = get_global_id(0);
-    if (t >= plane) return;
+/* Plane k of every lobe's K planes becomes the sum of its planes 0..k (per texel); nl lobes. */
+__kernel void sl_dodm_cumulate(__global ulong *bins, uint plane, uint K, uint nl) {
+    const size_t g = get_global_id(0);
+    if (g >= (size_t)plane * nl) return;
+    bins += (g / plane) * K * plane + g % plane;
     ulong s = 0;
     for (uint k = 0; k < K; k++) {
-        s += bins[(size_t)k * plane + t];
-        bins[(size_t)k * plane + t] = s;
+        s += bins[(size_t)k * plane];
+        bins[(size_t)k * plane] = s;
     }
 }
 
@@ -51,4 +52,30 @@ __kernel void sl_dodm_lookup(__global const uint *z0bits, __global const ulong *
     const float tau = sl_dodm_tau(z0bits, sat, w, h, K, d, rfac, inv_scale, pts[3 * i],
                                   pts[3 * i + 1], pts[3 * i + 2]);
     T[i] = exp(-tau);
+}
+
+/* T = exp(-tau) at n world points (pts: 3 n floats) for a batch of nl lobes whose global indices
+ * start at lobe0 (sl_dodm_tau_lobe). all != 0: every lobe at every point, T[i stride + lobe0 + l];
+ * all = 0: point i for its own lobe lobe[i] (global index; other batches' points are skipped),
+ * T[i]. */
+__kernel void sl_dodm_lookup_lobes(__global const uint *z0bits, __global const ulong *sat, int w,
+                                   int h, uint K, __global const float *params,
+                                   __global const float *views, __global const float *pts,
+                                   __global const uint *lobe, int all, uint n, uint nl, uint lobe0,
+                                   uint stride, __global float *T) {
+    const size_t g = get_global_id(0);
+    size_t i, o;
+    uint l;
+    if (all) {
+        if (g >= (size_t)n * nl) return;
+        i = g / nl;
+        l = (uint)(g % nl);
+        o = i * stride + lobe0 + l;
+    } else {
+        if (g >= n) return;
+        i = o = g;
+        if (lobe[i] < lobe0 || lobe[i] - lobe0 >= nl) return;
+        l = lobe[i] - lobe0;
+    }
+    T[o] = exp(-sl_dodm_tau_lobe(z0bits, sat, w, h, K, params, views, l, pts + 3 * i));
 }

@@ -118,4 +118,21 @@ SL_INLINE float sl_dodm_tau(const SL_GLOBAL sl_uint *z0bits, const SL_GLOBAL sl_
     return lo + (hi - lo) * ((dz - b0) / (b1 - b0));
 }
 
+/* Per-lobe lookup parameters of a batch (SL_DODM_PARAMS floats per lobe): d, rfac, inv_scale. */
+#define SL_DODM_PARAMS 4
+
+/* tau at world point p (3 floats) for lobe l of a batch: maps stacked per lobe (z0: one plane,
+ * tables: K planes), views as in kernels/raster.h (SL_RASTER_VIEW floats per lobe). */
+SL_INLINE float sl_dodm_tau_lobe(const SL_GLOBAL sl_uint *z0bits, const SL_GLOBAL sl_ulong *sat,
+                                 sl_int w, sl_int h, sl_uint K, const SL_GLOBAL float *params,
+                                 const SL_GLOBAL float *views, sl_uint l,
+                                 const SL_GLOBAL float *p) {
+    const sl_ulong plane = (sl_ulong)w * (sl_ulong)h;
+    const SL_GLOBAL float *q = params + (sl_ulong)l * SL_DODM_PARAMS;
+    float u, v, z;
+    sl_raster_project(views + (sl_ulong)l * SL_RASTER_VIEW, p, &u, &v, &z);
+    return sl_dodm_tau(z0bits + l * plane, sat + (sl_ulong)l * K * plane, w, h, K, q[0], q[1], q[2],
+                       u, v, z);
+}
+
 #endif

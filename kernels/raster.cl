@@ -1,18 +1,35 @@
-/* raster.cl: the segment rasterizer (kernels/raster.h; C twin cpu/raster.c). One work-item per
- * segment record walks its ribbon samples and splats them with exact 64-bit fixed-point atomics
- * (cl_khr_int64_base_atomics; a device without it fails to build and `auto` falls back to C).
- * Pass 1 (sl_raster_z0) takes the first depth z0 per texel (atomic min of the depth's bits),
- * pass 2 (sl_raster_layers) adds each share to the deep-opacity layer its depth offset falls in. */
+/* raster.cl: the segment rasterizer (kernels/raster.h; C twin cpu/raster.c). The projection
+ * kernel makes the records of a batch of lobes from the world points; then one work-item per
+ * (lobe, segment record) walks its ribbon samples and splats them with exact 64-bit fixed-point
+ * atomics (cl_khr_int64_base_atomics; a device without it fails to build and `auto` falls back to
+ * C). Pass 1 (sl_raster_z0) takes the first depth z0 per texel (atomic min of the depth's bits),
+ * between them sl_raster_z0_min (rows, then columns) takes the minimum of z0 over a square window
+ * so that a texel's layers start at the local hair surface (kernels/raster.h: sl_raster_z0_window),
+ * and pass 2 (sl_raster_layers) adds each share to the deep-opacity layer its depth offset falls
+ * in. Maps may be stacked for a batch of lobes: z0bits holds nl planes, bins nl * K planes. */
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL FP_CONTRACT OFF
 
 #include "raster.h"
 
-__kernel void sl_raster_z0(__global const float *recs, uint nseg, int w, int h,
+/* Records of nl lobes x nseg segments (lobe-major) from the world points (sl_raster_project_seg):
+ * the projection runs on the device, so the hair is uploaded once per batch of lobes. */
+__kernel void sl_raster_project_k(__global const float *pos, __global const uint *seg,
+                                  __global const float *hw, __global const float *views, uint nseg,
+                                  uint nl, float mscale, __global float *recs) {
+    const size_t g = get_global_id(0);
+    if (g >= (size_t)nseg * nl) return;
+    sl_raster_project_seg(pos, seg, hw, views, nseg, (uint)(g / nseg), (uint)(g % nseg), mscale,
+                          recs);
+}
+
+/* Work-item g = l * nseg + s: record s of lobe l into plane l of z0bits. */
+__kernel void sl_raster_z0(__global const float *recs, uint nseg, uint nl, int w, int h,
                            __global uint *z0bits) {
-    const uint s = get_global_id(0);
-    if (s >= nseg) return;
-    __global const float *rec = recs + (size_t)s * SL_RASTER_REC;
+    const size_t g = get_global_id(0);
+    if (g >= (size_t)nseg * nl) return;
+    __global const float *rec = recs + g * SL_RASTER_REC;
+    z0bits += (g / nseg) * (size_t)w * h;
     const uint na = (uint)rec[9], nw = (uint)rec[10];
     const float m = rec[8];
     for (uint i = 0; i < na; i++)
@@ -32,14 +49,30 @@ __kernel void sl_raster_z0(__global const float *recs, uint nseg, int w, int h,
         }
 }
 
-__kernel void sl_raster_layers(__global const float *recs, uint nseg, int w, int h, uint K, float d,
-                               __global const uint *z0bits, __global ulong *bins) {
-    const uint s = get_global_id(0);
-    if (s >= nseg) return;
-    __global const float *rec = recs + (size_t)s * SL_RASTER_REC;
+/* One pass of the separable min filter of half-size m: dst[t] = min of src over the texels within
+ * m along x (dx = 1) or y (dx = 0) in the same plane; nl stacked planes of w * h. */
+__kernel void sl_raster_z0_min(__global const uint *src, __global uint *dst, int w, int h, uint nl,
+                               int m, int dx) {
+    const size_t t = get_global_id(0), plane = (size_t)w * h;
+    if (t >= plane * nl) return;
+    const size_t base = t - t % plane;
+    const int x = (int)(t % plane % (size_t)w), y = (int)(t % plane / (size_t)w);
+    dst[t] = sl_raster_z0_window(src + base, w, h, x, y, m, dx);
+}
+
+/* Work-item g = l * nseg + s: record s of lobe l (first layer depth d[l]) into planes
+ * l K .. l K + K - 1 of bins against plane l of z0bits. */
+__kernel void sl_raster_layers(__global const float *recs, uint nseg, uint nl, int w, int h, uint K,
+                               __global const float *dl, __global const uint *z0bits,
+                               __global ulong *bins) {
+    const size_t g = get_global_id(0);
+    if (g >= (size_t)nseg * nl) return;
+    __global const float *rec = recs + g * SL_RASTER_REC;
     const uint na = (uint)rec[9], nw = (uint)rec[10];
-    const float m = rec[8];
+    const float m = rec[8], d = dl[g / nseg];
     const size_t plane = (size_t)w * h;
+    z0bits += (g / nseg) * plane;
+    bins += (g / nseg) * K * plane;
     for (uint i = 0; i < na; i++)
         for (uint j = 0; j < nw; j++) {
             float x, y, z, fx, fy;

@@ -1,8 +1,9 @@
 /* raster.h: the segment rasterizer shared by kernels/raster.cl and its C twin cpu/raster.c.
  *
  * A hair segment is drawn as a camera-facing ribbon of the fiber's width (2 r) in a 2-D raster
- * whose projection (orthographic light view, or later the perspective view pass) the host has
- * already applied: the host turns every segment into a record of SL_RASTER_REC floats (texel
+ * whose projection (orthographic light view: sl_raster_project_seg on the device or in C, or
+ * later the perspective view pass) is already applied: every segment becomes a record of
+ * SL_RASTER_REC floats (texel
  * coordinates x, y with texel centres at i + 0.5, and a depth z) describing a regular grid of
  * na x nw sample points that tile the ribbon (spacing <= 1/2 texel along and across), each
  * carrying the same share `mass` of the ribbon's area. Every sample is splatted with a tent
@@ -11,8 +12,9 @@
  *
  * Mass is in FIXED POINT (the host multiplies by a power-of-two scale and the per-texel share is
  * rounded to a 64-bit integer) so accumulation by atomics is exact and order-independent: the
- * kernel and the C twin give bit-identical maps. Only +, -, *, floor and round-to-nearest
- * conversions appear here (no sqrt/division, whose OpenCL precision is looser than C's), and
+ * kernel and the C twin give bit-identical maps. The sampling uses only +, -, *, floor and
+ * round-to-nearest conversions; the record builder also divides and takes a square root, which
+ * raster.cl asks to be correctly rounded (-cl-fp32-correctly-rounded-divide-sqrt, as in C); and
  * raster.cl turns FP contraction off, so every float operation is the same in both languages. */
 #ifndef SL_RASTER_H
 #define SL_RASTER_H
@@ -28,6 +30,72 @@
 /* Depth of a float z as an order-preserving uint (z >= 0 is guaranteed by the host): the
  * first-depth map is the atomic minimum of these. +inf (no hair) is 0x7f800000. */
 #define SL_RASTER_Z_EMPTY 0x7f800000u
+
+/* Light views for the device-side projection (sl_raster_project_seg): SL_RASTER_VIEW floats per
+ * lobe: origin (3), ex / texel (3), ey / texel (3), ez (3): u = (p - o).ex', v = (p - o).ey',
+ * z = (p - o).ez (host/shadow.h: sl_light_view). */
+#define SL_RASTER_VIEW 12
+/* Samples at most 1/2 texel apart along and across a ribbon (the tent filter then reconstructs
+ * a uniform line density with a ripple below 1 % of the texel value); caps bound one record's
+ * work (a ribbon longer or wider than the map: mass is still conserved, sampling coarser). */
+#define SL_RASTER_MAX_ALONG 65536.0f
+#define SL_RASTER_MAX_ACROSS 4096.0f
+
+/* World point p (3 floats) in light view `view`: u, v in texels and depth z. */
+SL_INLINE void sl_raster_project(const SL_GLOBAL float *view, const SL_GLOBAL float *p, float *u,
+                                 float *v, float *z) {
+    const float qx = p[0] - view[0], qy = p[1] - view[1], qz = p[2] - view[2];
+    *u = (qx * view[3] + qy * view[4]) + qz * view[5];
+    *v = (qx * view[6] + qy * view[7]) + qz * view[8];
+    *z = (qx * view[9] + qy * view[10]) + qz * view[11];
+}
+
+/* The record (layout below) of the ribbon from (x0, y0, z0) to (x1, y1, z1) (texels, depth) of
+ * half-width hw texels: area 2 hw |p1 - p0|_xy (numerics.md sec. 7: 2 r l) times mscale
+ * (fixed-point units per texel^2), spread over na x nw samples. No area (seen end-on, hw = 0):
+ * all zero (no samples). Float operations only, sqrt and division included: raster.cl is built
+ * with -cl-fp32-correctly-rounded-divide-sqrt so both languages round every step identically. */
+SL_INLINE void sl_raster_record_f(float x0, float y0, float z0, float x1, float y1, float z1,
+                                  float hw, float mscale, SL_GLOBAL float *rec) {
+    for (int i = 0; i < 12; i++)
+        rec[i] = 0.0f;
+    const float dx = x1 - x0, dy = y1 - y0, dz = z1 - z0;
+    const float len = sqrt(dx * dx + dy * dy);
+    const float wid = 2.0f * hw, area = wid * len;
+    if (!(area > 0.0f) || !(area < SL_FLT_MAX)) return;
+    const float na = sl_minf(sl_maxf(1.0f, ceil(len * 2.0f)), SL_RASTER_MAX_ALONG);
+    const float nw = sl_minf(sl_maxf(1.0f, ceil(wid * 2.0f)), SL_RASTER_MAX_ACROSS);
+    const float ax = dx / na, ay = dy / na, az = dz / na;
+    const float step = wid / nw;
+    const float wx = (-dy / len) * step, wy = (dx / len) * step; /* across: the unit normal */
+    const float off = -(nw - 1.0f) * 0.5f;
+    rec[0] = (x0 + 0.5f * ax) + off * wx;
+    rec[1] = (y0 + 0.5f * ay) + off * wy;
+    rec[2] = z0 + 0.5f * az;
+    rec[3] = ax;
+    rec[4] = ay;
+    rec[5] = az;
+    rec[6] = wx;
+    rec[7] = wy;
+    rec[8] = (area * mscale) / (na * nw);
+    rec[9] = na;
+    rec[10] = nw;
+}
+
+/* Record of segment s of lobe l: points pos[3 i], pos[3 (i + 1)] with i = seg[s], half-width
+ * hw[s] texels, written to recs + (l nseg + s) SL_RASTER_REC. */
+SL_INLINE void sl_raster_project_seg(const SL_GLOBAL float *pos, const SL_GLOBAL sl_uint *seg,
+                                     const SL_GLOBAL float *hw, const SL_GLOBAL float *views,
+                                     sl_uint nseg, sl_uint l, sl_uint s, float mscale,
+                                     SL_GLOBAL float *recs) {
+    const SL_GLOBAL float *view = views + (sl_ulong)l * SL_RASTER_VIEW;
+    const SL_GLOBAL float *p = pos + (sl_ulong)seg[s] * 3u;
+    float x0, y0, z0, x1, y1, z1;
+    sl_raster_project(view, p, &x0, &y0, &z0);
+    sl_raster_project(view, p + 3, &x1, &y1, &z1);
+    sl_raster_record_f(x0, y0, z0, x1, y1, z1, hw[s], mscale,
+                       recs + ((sl_ulong)l * nseg + s) * SL_RASTER_REC);
+}
 
 /* Sample (i, j) of a record: position in texels and depth. */
 SL_INLINE void sl_raster_sample(const SL_GLOBAL float *rec, sl_uint i, sl_uint j, float *x,
@@ -61,6 +129,26 @@ SL_INLINE void sl_raster_tent(float x, float y, sl_int *ix, sl_int *iy, float *f
 /* Fixed-point share of one tent corner (weights wx, wy of a sample of mass m). */
 SL_INLINE float sl_raster_share(float m, float wx, float wy) {
     return (m * wx) * wy;
+}
+
+/* Minimum of the first-depth bits over the texels (x - m .. x + m, y) (dx = 1) or (x, y - m ..
+ * y + m) (dx = 0), clipped to the map. Two passes (rows, then columns) give the minimum over the
+ * (2m + 1)^2 window. Why: a texel's own first fiber lies below the hair's surface by about the
+ * depth at which the first fiber crosses its footprint; in sparse hair that depth carries an
+ * optical depth of ~2r / (W + 2r) (W = footprint width, 2r = fiber width), all of it missing
+ * from every lookup below (docs/shadow.md). The window widens W so the layers start near the
+ * local surface. Unsigned min of the order-preserving bits: exact, same in C and OpenCL. */
+SL_INLINE sl_uint sl_raster_z0_window(const SL_GLOBAL sl_uint *z0bits, sl_int w, sl_int h, sl_int x,
+                                      sl_int y, sl_int m, sl_int dx) {
+    const sl_int n = dx ? w : h, c = dx ? x : y;
+    const sl_int a = c - m < 0 ? 0 : c - m, b = c + m > n - 1 ? n - 1 : c + m;
+    sl_uint v = SL_RASTER_Z_EMPTY;
+    for (sl_int i = a; i <= b; i++) {
+        const sl_uint q = z0bits[dx ? (sl_ulong)y * (sl_ulong)w + (sl_ulong)i
+                                    : (sl_ulong)i * (sl_ulong)w + (sl_ulong)x];
+        v = q < v ? q : v;
+    }
+    return v;
 }
 
 #endif

@@ -27,7 +27,27 @@
 #define SL_SRBF_C_FLOATS (SL_SRBF_NL * SL_SRBF_NPHI * 8)
 /* H: [fresnel 0 exact / 1 schlick][mode 0 TT / 1 TRT][ieta][itd][4] (k = 0, 2, 4, one pad):
  * H_k^TT = int_{-1}^{1} (1-F)^2 h^k dh, H_k^TRT = int (1-F)^2 F h^k dh (Xu Eq. 19, 23). */
-#define SL_SRBF_H_FLOATS (2 * 2 * SL_SRBF_NETA * SL_SRBF_NTD * 4)
+#define SL_SRBF_HK_FLOATS (2 * 2 * SL_SRBF_NETA * SL_SRBF_NTD * 4)
+/* W (the fast path, kernels/srbf_fast.h), stored in the same buffer right after H_k so that every
+ * caller that passes H passes it too: [mode 0 TT / 1 TRT][ix][il][ip][SL_SRBF_W_NODES] (and R
+ * below), the
+ * azimuthal product-quadrature weights
+ *   W_i(x, lambda, phi) = 1/2 int_{-1}^{1} L_i(sqrt(1 - h^2)) g^c(phi - Phi(p, h); 0, lambda) dh
+ *                         / int g^c(.; 0, lambda)
+ * with x = 1/eta' uniform in [0, 1], lambda log-uniform in [SL_SRBF_W_LMIN, SL_SRBF_LMAX], |phi|
+ * uniform in [0, pi], and L_i the Lagrange polynomials in c = cos gamma_i on the nodes
+ * sl_srbf_w_c[] (kernels/srbf_fast.h): so the exactly convolved N'_p of any A_p(h) smooth in c is
+ * sum_i A_p(c_i) W_i (docs/srbf.md, "fast"). */
+#define SL_SRBF_W_NX 32
+#define SL_SRBF_W_NL 24
+#define SL_SRBF_W_NP 64
+#define SL_SRBF_W_NODES 4
+#define SL_SRBF_W_LMIN 0.02f
+#define SL_SRBF_W_TRT_FLOATS (2 * SL_SRBF_W_NX * SL_SRBF_W_NL * SL_SRBF_W_NP * SL_SRBF_W_NODES)
+/* then mode 2, R (p = 0: Phi(0, h) = -2 asin h does not depend on eta'): [il][ip][node] */
+#define SL_SRBF_W_FLOATS (SL_SRBF_W_TRT_FLOATS + SL_SRBF_W_NL * SL_SRBF_W_NP * SL_SRBF_W_NODES)
+/* The whole H buffer: H_k, then W. */
+#define SL_SRBF_H_FLOATS (SL_SRBF_HK_FLOATS + SL_SRBF_W_FLOATS)
 
 /* Width of the smoothstep that blends TRT's caustic width w_c into lambda_3 above eta' = 2
  * (Xu 4.2.4: "typically between 0.2 and 0.4"). */

@@ -7,7 +7,7 @@ PKGS=(
   clang clang-15 libclang-rt-14-dev llvm
   ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
   libopenexr-dev
-  libcjson-dev libstb-dev
+  libcjson-dev libstb-dev libembree-dev
   libglfw3-dev libgl-dev libegl-dev libgl1-mesa-dri xvfb xauth
   python3 python3-numpy python3-matplotlib bc
 )

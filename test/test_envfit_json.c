@@ -85,3 +85,12 @@ TEST(lobes_json_integral) {
     CHECK_REL(sl_lobe_integral(1.0), M_PI * (1 - exp(-4.0)), 1e-12);
     CHECK_REL(sl_lobe_integral(1e4), 4 * M_PI, 1e-6);
 }
+
+/* The lobe integral stays finite at both ends of the double range (a lobes file may say
+ * "lambda": 1e308): broad lobes tend to 4 pi, narrow ones to pi lambda^2. */
+TEST(lobes_integral_extreme_lambda) {
+    CHECK_REL(sl_lobe_integral(1e308), 4 * M_PI, 1e-12);
+    CHECK_REL(sl_lobe_integral(1e6), 4 * M_PI * (1 - 2e-12), 1e-12);
+    CHECK_REL(sl_lobe_integral(2.0), M_PI * 4 * (1 - exp(-1.0)), 1e-12);
+    CHECK_REL(sl_lobe_integral(1e-150), M_PI * 1e-300, 1e-12);
+}

@@ -34,7 +34,8 @@ TEST(scene_full_example_parses) {
         "\"camera\":{\"eye\":[0,0,120],\"target\":[0,0,0],\"up\":[0,1,0],\"fov_deg\":30},"
         "\"image\":{\"width\":64,\"height\":32},"
         "\"quality\":{\"lobes\":40,\"layers\":4,\"segments_m\":4,\"kappa\":0.5,\"voxels\":64,"
-        "\"multiple_scattering\":\"off\",\"oit_layers\":8,\"shading_rate\":\"auto\"},"
+        "\"multiple_scattering\":\"off\",\"oit_layers\":8,\"shading_rate\":\"auto\","
+        "\"shadow_size\":256},"
         "\"output\":{\"exr\":\"out/frame.exr\",\"png\":\"out/frame.png\",\"aovs\":[\"R\",\"TT\"]}}";
     sl_scene *s = calloc(1, sizeof *s);
     sl_err e = {{0}};
@@ -43,7 +44,7 @@ TEST(scene_full_example_parses) {
     CHECK(strcmp(s->hair_file, "dir/models/straight.hair") == 0 && s->up_z);
     CHECK(strcmp(s->env_lobes, "/abs/f.lobes.json") == 0);
     CHECK(s->has_eye && s->eye[2] == 120 && s->has_follow && s->follow_per_guide == 4);
-    CHECK(s->multiple_scattering == SL_MS_OFF && s->num_aovs == 2);
+    CHECK(s->multiple_scattering == SL_MS_OFF && s->num_aovs == 2 && s->shadow_size == 256);
     CHECK_NEAR(s->material.eta, 1.6, 0);
     CHECK(strcmp(s->out_exr, "dir/out/frame.exr") == 0);
     free(s);
@@ -80,6 +81,9 @@ TEST(scene_errors_name_file_and_key) {
         {"{\"hair\":{\"procedural\":{}},\"environment\":{\"file\":\"a.hdr\"},"
          "\"quality\":{\"multiple_scattering\":\"maybe\"}}",
          "dir/scene.json: quality.multiple_scattering: expected \"on\", \"off\" or \"auto\""},
+        {"{\"hair\":{\"procedural\":{}},\"environment\":{\"file\":\"a.hdr\"},"
+         "\"quality\":{\"shadow_size\":8}}",
+         "dir/scene.json: quality.shadow_size: must be in [16, 8192]"},
         {"{\"hair\":{\"procedural\":{}},\"environment\":{\"file\":\"a.hdr\"},"
          "\"output\":{\"aovs\":[\"R\",\"XYZ\"]}}",
          "dir/scene.json: output.aovs[1]: unknown AOV \"XYZ\" (known: R TT TRT MS depth shadow "

@@ -13,7 +13,9 @@
 #include "srbf_c.h"
 #include "srbf_ref.h"
 #include "srbf_tables.h"
+#include "srbf_fast.h"
 #include "srbf_xu.h"
+#include "report_srbf.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -217,7 +219,8 @@ TEST(srbf_tables_interpolation) {
  * approximations (docs/srbf.md); a factor-2 or mirrored-phi bug fails them. */
 TEST(srbf_xu_vs_exact) {
     sl_srbf_tables t;
-    sl_srbf_tables_build(&t);
+    sl_err e = {{0}};
+    CHECK(sl_srbf_tables_get(&t, 0, &e) == 0); /* cached: the build is tested above */
     sl_material m;
     sl_material_default(&m);
     sl_fiber_params fp;
@@ -239,4 +242,104 @@ TEST(srbf_xu_vs_exact) {
                   "row %d: xu R %.6g exact %.6g", r, o4[4 * r], ex[0]);
     }
     sl_srbf_tables_free(&t);
+}
+
+/* ---- the fast path (kernels/srbf_fast.h) ---- */
+
+/* The W table (tabulated exact azimuthal convolutions, docs/srbf.md "fast") against a direct
+ * quadrature of its definition that shares no code with the Fourier-space build (midpoint rule
+ * in u, 0.4 M steps, exact int g^c): at lambda >= 0.3 (what TRT always uses, lambda3 >= w_c,
+ * and TT's usual range), within 1.5 % of the largest weight at that point plus 2e-3 absolute --
+ * the table's stated trilinear error is 13 % of max |W| overall but is reached only at lambda
+ * 0.02-0.05 next to caustics. */
+TEST(srbf_fast_W_table) {
+    sl_srbf_tables t;
+    sl_err e = {{0}};
+    CHECK(sl_srbf_tables_get(&t, 0, &e) == 0);
+    CHECK(t.err_W > 0.0 && t.err_W < 0.2);
+    const double pts[4][4] = {
+        {0, 0.6, 0.5, 3.0}, {0, 0.3, 1.0, 2.0}, {1, 0.55, 0.4, 1.2}, {1, 0.62, 0.3, 0.4}};
+    for (int p = 0; p < 4; p++) {
+        float got[SL_SRBF_W_NODES];
+        sl_srbf_W(t.H, (int)pts[p][0], (float)pts[p][1], (float)pts[p][2], (float)pts[p][3], got);
+        double want[SL_SRBF_W_NODES], big = 0.0;
+        for (int i = 0; i < SL_SRBF_W_NODES; i++) {
+            want[i] = sl_srbf_W_exact((int)pts[p][0], i, pts[p][1], pts[p][2], pts[p][3]);
+            big = fmax(big, fabs(want[i]));
+        }
+        for (int i = 0; i < SL_SRBF_W_NODES; i++)
+            CHECK_MSG(fabs(got[i] - want[i]) < 0.015 * big + 2e-3, "pt %d W_%d %.6g want %.6g", p,
+                      i, got[i], want[i]);
+    }
+    sl_srbf_tables_free(&t);
+}
+
+/* The issue's targets for --method fast on the stiff sample (host/srbf_sample.c, seed
+ * SL_SRBF_SAMPLE_SEED, 150 configurations): median <= 1 % and 95th percentile <= 10 % of the
+ * error of numerics.md sec. 5 on the total I, against exact values that the double reference
+ * (cpu/reference/srbf_ref.c, independent adaptive quadrature) wrote to test/test_srbf_stiff.csv
+ * with `strandlight report --kernel srbf --device none --write-exact test/test_srbf_stiff.csv`
+ * (eccentric rows take seconds each, hence the file). The file is first checked against the
+ * reference recomputed here on four non-eccentric rows (1e-6 relative: the reference's own
+ * tolerance is 1e-7, and it is deterministic). Measured: median 0.0051, p95 0.037, max 0.069;
+ * above the floor (96 rows) median 0.0065, p95 0.047. Xu
+ * as printed (m = 4) is checked to stay as measured (median 0.030, p95 0.227) within loose upper
+ * bounds (0.05, 0.35): a regression detector, not a target. */
+TEST(srbf_fast_targets_stiff_sample) {
+    enum { N = 150 };
+    sl_srbf_config *cfg = malloc(N * sizeof *cfg);
+    sl_srbf_exact *x = malloc(N * sizeof *x);
+    sl_srbf_sample(SL_SRBF_SAMPLE_SEED, N, cfg);
+    sl_err e = {{0}};
+    int rc = sl_srbf_exact_read("test/test_srbf_stiff.csv", cfg, N, x, &e);
+    CHECK_MSG(rc == 0, "%s", e.msg);
+    sl_srbf_tables t;
+    CHECK(sl_srbf_tables_get(&t, 0, &e) == 0);
+    if (rc == 0) {
+        const int spot[4] = {0, 11, 52, 133};
+        for (int s = 0; s < 4; s++) {
+            const sl_srbf_config *c = cfg + spot[s];
+            CHECK(c->material != 4);
+            sl_material m;
+            sl_srbf_sample_material(c->material, &m);
+            double ex[4];
+            slref_srbf(&m, 0, c->theta_o, c->phi_o, c->theta_j, c->phi_j, c->lambda, ex);
+            for (int k = 0; k < 4; k++)
+                CHECK_NEAR(ex[k], x[spot[s]].v[k], 1e-6 * ex[3] + 1e-300);
+        }
+        float *out = malloc(N * 4 * sizeof *out);
+        for (int method = 0; method < 2; method++) {
+            for (int i = 0; i < N; i++) {
+                sl_material m;
+                sl_srbf_sample_material(cfg[i].material, &m);
+                sl_fiber_params fp;
+                sl_material_to_fiber(&m, 0, &fp);
+                float in[5] = {(float)cfg[i].theta_o, (float)cfg[i].phi_o, (float)cfg[i].theta_j,
+                               (float)cfg[i].phi_j, (float)cfg[i].lambda};
+                slc_srbf_batch(&fp, t.C, t.H, method == 0 ? SL_SRBF_METHOD_FAST : SL_SRBF_METHOD_XU,
+                               4, 1, in, out + 4 * i);
+            }
+            sl_srbf_stats st;
+            sl_srbf_stats_of(x, N, out, &st);
+            if (method == 0) {
+                CHECK_MSG(st.median[3] <= 0.01, "fast median %.4f", st.median[3]);
+                CHECK_MSG(st.p95[3] <= 0.10, "fast p95 %.4f", st.p95[3]);
+                for (int k = 0; k < 3; k++) /* every mode meets the p95 target too */
+                    CHECK_MSG(st.p95[k] <= 0.10, "fast mode %d p95 %.4f", k, st.p95[k]);
+                /* and so do the 96 rows above the error floor alone (the others are measured
+                 * against the floor and are easy) */
+                CHECK(st.n_above >= 90);
+                CHECK_MSG(st.median_above <= 0.01, "fast median above floor %.4f", st.median_above);
+                CHECK_MSG(st.p95_above <= 0.10, "fast p95 above floor %.4f", st.p95_above);
+            } else {
+                CHECK_MSG(st.median[3] <= 0.05, "xu median %.4f", st.median[3]);
+                CHECK_MSG(st.p95[3] <= 0.35, "xu p95 %.4f", st.p95[3]);
+                CHECK_MSG(st.p95[3] > 0.10, "xu p95 %.4f: better than measured?", st.p95[3]);
+            }
+        }
+        free(out);
+    }
+    sl_srbf_tables_free(&t);
+    free(cfg);
+    free(x);
 }

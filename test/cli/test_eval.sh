@@ -105,10 +105,6 @@ expect_usage eval_material_and_scene "not both" scatter --material a.json --scen
 expect_usage eval_mp_no_material "deon-mp takes no material" deon-mp --material a.json
 expect_usage eval_device_needs_opencl "--device applies to --backend opencl only" \
     scatter --backend c --device pocl
-for q in forward-transmittance; do
-    expect_error "eval_reserved_$q" "strandlight eval: $q is not implemented yet" \
-        ev "$D/s.csv" "$q"
-done
 
 # ---- material errors (file and key path in the message) ----
 mat_err() {

@@ -78,3 +78,32 @@ for x, y in zip(a, b):
 sys.exit(0 if ok else 1)' "$cc" "$oc"; then pass "srbf_c_vs_opencl_$meth"
     else fail "srbf_c_vs_opencl_$meth" "c: $cc opencl: $oc"; fi
 done
+
+# `report --kernel srbf` (host/report_srbf.c): on the committed exact values of the stiff sample
+# (test/test_srbf_stiff.csv), C only, a 25-row prefix: table, CSV and SVG written atomically.
+R="$D/report"
+mkdir -p "$R"
+expect_output srbf_report_table "| fast | - | c |" \
+    "$SL" report --kernel srbf --n 25 --exact test/test_srbf_stiff.csv --device none \
+    --min-time 0.02 --csv "$R/r.csv" --svg "$R/r.svg"
+if [ -s "$R/r.csv" ] && head -1 "$R/r.csv" | grep -q '^method,segments,backend,n,median,p95,max,' &&
+    [ "$(wc -l < "$R/r.csv")" -eq 10 ] && grep -q '</svg>' "$R/r.svg"; then
+    pass srbf_report_files
+else fail srbf_report_files "$(head -3 "$R/r.csv" 2>&1)"; fi
+no_leftovers srbf_report_no_tmp "$R"
+# a stale exact file (another sample) is refused, naming the file and line
+sed '2s/^0,0\.9/0,0.8/' test/test_srbf_stiff.csv > "$R/stale.csv"
+expect_error srbf_report_stale "stale.csv:2: theta_o" \
+    "$SL" report --kernel srbf --n 5 --exact "$R/stale.csv" --device none
+expect_usage_report() {
+    local name=$1 want=$2; shift 2
+    local out rc
+    out=$("$SL" report "$@" 2>&1 >/dev/null); rc=$?
+    if [ "$rc" -ne 2 ]; then fail "$name" "exit $rc (want 2): $out"; return; fi
+    if ! printf '%s' "$out" | grep -qF -- "$want"; then fail "$name" "stderr '$out' lacks '$want'"; return; fi
+    pass "$name"
+}
+expect_usage_report srbf_report_scene_later "not implemented yet" scene.json
+expect_usage_report srbf_report_kernel_unknown "unknown kernel 'foo'" --kernel foo
+expect_usage_report srbf_report_no_form "expected --kernel srbf"
+expect_usage_report srbf_report_bad_n "--n" --kernel srbf --n 0

@@ -1,0 +1,130 @@
+/* view.c: the C twin of the view pass (see view.h). */
+#include "view.h"
+
+#include "raster.h"
+#include "../kernels/raster.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common.h"
+
+void slc_frag_list_free(slc_frag_list *l) {
+    free(l->f);
+    free(l->pix);
+    memset(l, 0, sizeof *l);
+}
+
+static void push(slc_frag_list *l, uint32_t pix, sl_kfrag f) {
+    if (l->n == l->cap) {
+        l->cap = l->cap ? 2 * l->cap : 4096;
+        l->f = sl_realloc(l->f, l->cap * sizeof *l->f);
+        l->pix = sl_realloc(l->pix, l->cap * sizeof *l->pix);
+    }
+    l->f[l->n] = f;
+    l->pix[l->n++] = pix;
+}
+
+typedef struct share {
+    uint32_t pix;
+    float m, mt, mz;
+} share;
+
+static int share_cmp(const void *a, const void *b) {
+    uint32_t x = ((const share *)a)->pix, y = ((const share *)b)->pix;
+    return x < y ? -1 : x > y;
+}
+
+void slc_view_segment(const double p0[3], const double p1[3], double hw, float a0, float a1,
+                      uint32_t seg, int w, int h, slc_frag_list *out) {
+    float rec[SL_RASTER_REC];
+    slc_raster_record(p0, p1, hw, 1.0, rec); /* mass in pixel^2 */
+    const sl_uint na = (sl_uint)rec[9], nw = (sl_uint)rec[10];
+    if (na == 0 || nw == 0) return;
+    /* quick reject: the ribbon's bounding box misses the image */
+    double r = hw + 2.0;
+    if (fmax(p0[0], p1[0]) + r < 0 || fmin(p0[0], p1[0]) - r > w || fmax(p0[1], p1[1]) + r < 0 ||
+        fmin(p0[1], p1[1]) - r > h)
+        return;
+    size_t ns = (size_t)na * nw * 4, k = 0;
+    share stack[512];
+    share *s = ns <= 512 ? stack : sl_malloc(ns * sizeof *s);
+    const float m = rec[8];
+    for (sl_uint i = 0; i < na; i++) {
+        const float t = ((float)i + 0.5f) / (float)na;
+        for (sl_uint j = 0; j < nw; j++) {
+            float x, y, z, fx, fy;
+            sl_int ix, iy;
+            sl_raster_sample(rec, i, j, &x, &y, &z);
+            sl_raster_tent(x, y, &ix, &iy, &fx, &fy);
+            for (int c = 0; c < 4; c++) {
+                const int tx = ix + (c & 1), ty = iy + (c >> 1);
+                if (tx < 0 || ty < 0 || tx >= w || ty >= h) continue;
+                float sh = sl_raster_share(m, (c & 1) ? fx : 1.0f - fx, (c >> 1) ? fy : 1.0f - fy);
+                if (!(sh > 0.0f)) continue;
+                s[k++] = (share){(uint32_t)ty * (uint32_t)w + (uint32_t)tx, sh, sh * t, sh * z};
+            }
+        }
+    }
+    qsort(s, k, sizeof *s, share_cmp);
+    for (size_t a = 0; a < k;) {
+        size_t b = a;
+        double M = 0, Mt = 0, Mz = 0;
+        for (; b < k && s[b].pix == s[a].pix; b++)
+            M += s[b].m, Mt += s[b].mt, Mz += s[b].mz;
+        double cov = M < 1.0 ? M : 1.0, t = Mt / M;
+        double a_op = a0 + t * (a1 - a0);
+        float alpha = (float)(cov * a_op);
+        if (alpha >= 1e-4f) push(out, s[a].pix, (sl_kfrag){(float)(Mz / M), alpha, seg, (float)t});
+        a = b;
+    }
+    if (s != stack) free(s);
+}
+
+typedef struct kb_job {
+    const slc_frag_list *l;
+    int w, K;
+    uint32_t pix_lo, pix_hi;
+    sl_kfrag *kbuf;
+    uint8_t *count;
+    size_t merges;
+} kb_job;
+
+static void *kb_thread(void *arg) {
+    kb_job *j = arg;
+    for (size_t i = 0; i < j->l->n; i++) {
+        uint32_t p = j->l->pix[i];
+        if (p < j->pix_lo || p >= j->pix_hi) continue;
+        int n = j->count[p];
+        if (n == j->K) j->merges++;
+        j->count[p] = (uint8_t)sl_kbuffer_insert(j->kbuf + (size_t)p * j->K, n, j->K, j->l->f[i]);
+    }
+    return NULL;
+}
+
+size_t slc_kbuffer_build(const slc_frag_list *l, int w, int h, int K, sl_kfrag *kbuf,
+                         uint8_t *count, int nthreads) {
+    enum { MAXT = 16 };
+    if (nthreads < 1) nthreads = 1;
+    if (nthreads > MAXT) nthreads = MAXT;
+    memset(count, 0, (size_t)w * h);
+    kb_job job[MAXT];
+    pthread_t tid[MAXT];
+    int started[MAXT] = {0};
+    for (int t = 0; t < nthreads; t++) {
+        uint32_t y0 = (uint32_t)((uint64_t)h * t / nthreads),
+                 y1 = (uint32_t)((uint64_t)h * (t + 1) / nthreads);
+        job[t] = (kb_job){l, w, K, y0 * (uint32_t)w, y1 * (uint32_t)w, kbuf, count, 0};
+        started[t] = t > 0 && pthread_create(&tid[t], NULL, kb_thread, &job[t]) == 0;
+    }
+    for (int t = 0; t < nthreads; t++)
+        if (!started[t]) kb_thread(&job[t]);
+    size_t merges = 0;
+    for (int t = 0; t < nthreads; t++) {
+        if (started[t]) pthread_join(tid[t], NULL);
+        merges += job[t].merges;
+    }
+    return merges;
+}

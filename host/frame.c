@@ -1,0 +1,582 @@
+/* frame.c: the frame's pass planner and the passes' glue (see frame.h, docs/frame.md). Each pass
+ * declares what it reads by the hash it is keyed on:
+ *   light   hair geometry (points, radii, strands) + used lobes (dir, lambda) + shadow quality
+ *   dual    material
+ *   view    hair geometry + transparency + camera + image size + K
+ *   shade   everything (always runs), resolve: view + shade
+ * and the planner re-runs a pass only when its key changed. It also leaves out what the scene
+ * does not need: lobes below SL_FRAME_LOBE_THRESHOLD of the total power (no map, no shading),
+ * multiple scattering for dark hair (quality.multiple_scattering auto), and the K-buffer layers
+ * no pixel reached. */
+#include "frame_internal.h"
+#include "srbf_c.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+void sl_render_opts_default(sl_render_opts *o) {
+    memset(o, 0, sizeof *o);
+    o->srbf_method = SL_SRBF_METHOD_FAST;
+    o->segments = 4;
+    o->lobe_threshold = SL_FRAME_LOBE_THRESHOLD;
+}
+
+void sl_fbuf_free(sl_fbuf *f) {
+    free(f->rgba);
+    free(f->depth);
+    for (int k = 0; k < 4; k++)
+        free(f->mode[k]);
+    free(f->shadow);
+    free(f->lobes);
+    memset(f, 0, sizeof *f);
+}
+
+void sl_renderer_init(sl_renderer *r, sl_device *dev, const sl_render_opts *o) {
+    memset(r, 0, sizeof *r);
+    r->dev = dev;
+    if (o)
+        r->o = *o;
+    else
+        sl_render_opts_default(&r->o);
+}
+
+static void free_lights(sl_renderer *r) {
+    for (int i = 0; i < r->nlights; i++)
+        sl_dodm_free(&r->light[i]);
+    free(r->light);
+    free(r->light_lobe);
+    r->light = NULL;
+    r->light_lobe = NULL;
+    r->nlights = 0;
+    r->light_key = 0;
+}
+
+static void free_volume(sl_renderer *r) {
+    if (r->have_vol) {
+        sl_ftex_free(&r->ftex);
+        sl_voxel_grid_free(&r->vgrid);
+    }
+    r->have_vol = 0;
+    r->vol_key = 0;
+}
+
+void sl_renderer_free(sl_renderer *r) {
+    free_lights(r);
+    free_volume(r);
+    if (r->have_vms) sl_volume_ms_free(&r->vms);
+    if (r->have_tables) sl_srbf_tables_free(&r->tables);
+    free(r->kbuf);
+    free(r->kcount);
+    memset(r, 0, sizeof *r);
+}
+
+int sl_frame_threads(const sl_renderer *r) {
+    if (r->o.threads > 0) return r->o.threads;
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : (n > 16 ? 16 : (int)n);
+}
+
+void sl_frame_pass(sl_renderer *r, const char *name, int state, double seconds, const char *fmt,
+                   ...) {
+    if (r->npass >= SL_FRAME_MAX_PASSES) return;
+    sl_pass_rec *p = &r->pass[r->npass++];
+    snprintf(p->name, sizeof p->name, "%s", name);
+    p->state = state;
+    p->seconds = seconds;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(p->why, sizeof p->why, fmt, ap);
+    va_end(ap);
+}
+
+const sl_pass_rec *sl_renderer_pass(const sl_renderer *r, const char *name) {
+    for (int i = 0; i < r->npass; i++)
+        if (strcmp(r->pass[i].name, name) == 0) return &r->pass[i];
+    return NULL;
+}
+
+void sl_renderer_explain(const sl_renderer *r, FILE *f) {
+    static const char *st[] = {"run", "cached", "skipped"};
+    fprintf(f, "%-10s %-8s %9s  %s\n", "pass", "state", "time", "why");
+    for (int i = 0; i < r->npass; i++)
+        fprintf(f, "%-10s %-8s %8.3fs  %s\n", r->pass[i].name, st[r->pass[i].state],
+                r->pass[i].seconds, r->pass[i].why);
+    fprintf(f, "%-10s %-8s %8.3fs\n", "total", "", r->total_s);
+}
+
+int sl_shading_rate_parse(const char *s, int *k, sl_err *e) {
+    if (strcmp(s, "auto") == 0) {
+        *k = -1;
+    } else if (strcmp(s, "fragment") == 0) {
+        *k = 0;
+    } else if (strcmp(s, "vertex") == 0) {
+        *k = 1;
+    } else if (strncmp(s, "vertex:", 7) == 0) {
+        char *end;
+        long v = strtol(s + 7, &end, 10);
+        if (*end || end == s + 7 || v < 1 || v > 64)
+            return sl_fail(e, "shading rate \"%s\": vertex:K needs an integer K in 1..64", s);
+        *k = (int)v;
+    } else {
+        return sl_fail(e, "shading rate \"%s\": expected auto, fragment, vertex or vertex:K", s);
+    }
+    return 0;
+}
+
+static uint64_t hash_geometry(const sl_hair *h, uint64_t k) {
+    k = sl_hash64(&h->num_strands, sizeof h->num_strands, k);
+    k = sl_hash64(h->strand_first, ((size_t)h->num_strands + 1) * sizeof *h->strand_first, k);
+    k = sl_hash64(h->pos, (size_t)h->num_points * 3 * sizeof *h->pos, k);
+    if (h->radius)
+        k = sl_hash64(h->radius, (size_t)h->num_points * sizeof *h->radius, k);
+    else
+        k = sl_hash64(&h->default_radius, sizeof h->default_radius, k);
+    return k;
+}
+
+static int hair_transparent(const sl_hair *h) {
+    if (!h->transparency) return h->default_transparency > 0;
+    for (uint32_t i = 0; i < h->num_points; i++)
+        if (h->transparency[i] > 0) return 1;
+    return 0;
+}
+
+/* Light pass: one deep opacity map per used lobe, cached by key. */
+static int light_pass(sl_renderer *r, const sl_scene *s, const sl_hair *h, const sl_lobes *lobes,
+                      const int *used, int nused, sl_err *e) {
+    sl_shadow_opts so;
+    memset(&so, 0, sizeof so); /* padding too: the struct is hashed */
+    sl_shadow_opts_default(&so);
+    so.layers = s->layers > 0 ? s->layers : so.layers;
+    if (so.layers > SL_SHADOW_MAX_LAYERS) so.layers = SL_SHADOW_MAX_LAYERS;
+    so.kappa = s->kappa > 0 ? s->kappa : 1.0;
+    so.size = r->o.shadow_size > 0 ? r->o.shadow_size
+                                   : ((size_t)s->width * s->height > 1000000 ? 512 : 256);
+    uint64_t k = hash_geometry(h, 0x11);
+    k = sl_hash64(&so, sizeof so, k);
+    for (int j = 0; j < nused; j++) {
+        k = sl_hash64(lobes->lobe[used[j]].dir, sizeof lobes->lobe[0].dir, k);
+        k = sl_hash64(&lobes->lobe[used[j]].lambda, sizeof(double), k);
+    }
+    if (k == r->light_key && r->nlights == nused) {
+        sl_frame_pass(r, "light", SL_PASS_CACHED, 0,
+                      "%d deep opacity maps reused (geometry, lobes and shadow quality unchanged)",
+                      nused);
+        return 0;
+    }
+    free_lights(r);
+    double t0 = sl_now();
+    r->light = sl_calloc(nused ? nused : 1, sizeof *r->light);
+    r->light_lobe = sl_malloc((nused ? nused : 1) * sizeof *r->light_lobe);
+    sl_progress pr;
+    sl_progress_begin(&pr, "light pass");
+    for (int j = 0; j < nused; j++) {
+        const sl_lobe *lb = &lobes->lobe[used[j]];
+        if (sl_shadow_build(r->dev, h, lb->dir, lb->lambda, &so, &r->light[j], e)) {
+            sl_progress_end(&pr);
+            r->nlights = j;
+            free_lights(r);
+            return -1;
+        }
+        r->light_lobe[j] = used[j];
+        r->nlights = j + 1;
+        sl_progress_update(&pr, (j + 1.0) / nused);
+    }
+    sl_progress_end(&pr);
+    r->light_key = k;
+    sl_frame_pass(r, "light", SL_PASS_RUN, sl_now() - t0,
+                  "%d deep opacity maps %dx%d, K=%d, kappa %.3g (%s)", nused, so.size, so.size,
+                  so.layers, so.kappa, r->dev->is_opencl ? "OpenCL" : "C");
+    return 0;
+}
+
+/* The shading points of the last view pass (rate k: 0 fragment, >= 1 every k-th vertex) and the
+ * map from each K-buffer entry to its shading (point index, or anchor pair + weight). */
+typedef struct shade_map {
+    uint32_t *strand_of; /* per point */
+    uint32_t *anchor;    /* per hair point: shading point index, UINT32_MAX if not shaded */
+    uint32_t *entry;     /* fragment rate: per K-buffer slot */
+} shade_map;
+
+static void anchors_of(const sl_hair *h, const uint32_t *strand_of, uint32_t pt, int k,
+                       uint32_t *lo, uint32_t *hi) {
+    uint32_t s = strand_of[pt], a = h->strand_first[s], b = h->strand_first[s + 1];
+    *lo = a + (pt - a) / (uint32_t)k * (uint32_t)k;
+    *hi = *lo + (uint32_t)k < b - 1 ? *lo + (uint32_t)k : b - 1;
+    if (*lo == b - 1 && *lo > a) { /* the last point: its own anchor */
+        *hi = *lo;
+    }
+}
+
+static void build_points(sl_renderer *r, const sl_hair *h, shade_map *m, sl_shade_points *p) {
+    size_t npx = (size_t)r->vw * r->vh;
+    int K = r->vK, k = r->rate_k;
+    size_t cap = 1024, n = 0;
+    p->pos = sl_malloc(cap * 3 * sizeof *p->pos);
+    p->tan = sl_malloc(cap * 3 * sizeof *p->tan);
+#define ADD_POINT(X, T)                                                                            \
+    do {                                                                                           \
+        if (n == cap) {                                                                            \
+            cap *= 2;                                                                              \
+            p->pos = sl_realloc(p->pos, cap * 3 * sizeof *p->pos);                                 \
+            p->tan = sl_realloc(p->tan, cap * 3 * sizeof *p->tan);                                 \
+        }                                                                                          \
+        for (int q = 0; q < 3; q++)                                                                \
+            p->pos[3 * n + q] = (X)[q], p->tan[3 * n + q] = (T)[q];                                \
+        n++;                                                                                       \
+    } while (0)
+    if (k == 0) {
+        m->entry = sl_malloc(npx * K * sizeof *m->entry);
+        for (size_t px = 0; px < npx; px++)
+            for (int i = 0; i < r->kcount[px]; i++) {
+                const sl_kfrag *f = &r->kbuf[px * K + i];
+                uint32_t s = m->strand_of[f->seg];
+                double x[3];
+                for (int q = 0; q < 3; q++)
+                    x[q] = h->pos[3 * f->seg + q] +
+                           (double)f->t * (h->pos[3 * f->seg + 3 + q] - h->pos[3 * f->seg + q]);
+                float t[3];
+                sl_hair_tangent(h, s, f->seg - h->strand_first[s], t);
+                m->entry[px * K + i] = (uint32_t)n;
+                ADD_POINT(x, t);
+            }
+    } else {
+        m->anchor = sl_malloc((size_t)h->num_points * sizeof *m->anchor);
+        for (uint32_t i = 0; i < h->num_points; i++)
+            m->anchor[i] = 0;
+        for (size_t px = 0; px < npx; px++)
+            for (int i = 0; i < r->kcount[px]; i++) {
+                uint32_t seg = r->kbuf[px * K + i].seg, lo, hi;
+                anchors_of(h, m->strand_of, seg, k, &lo, &hi);
+                m->anchor[lo] = m->anchor[hi] = 1;
+            }
+        for (uint32_t i = 0; i < h->num_points; i++) {
+            if (!m->anchor[i]) {
+                m->anchor[i] = UINT32_MAX;
+                continue;
+            }
+            uint32_t s = m->strand_of[i];
+            double x[3];
+            for (int q = 0; q < 3; q++)
+                x[q] = h->pos[3 * i + q];
+            float t[3];
+            sl_hair_point_tangent(h, s, i - h->strand_first[s], t);
+            m->anchor[i] = (uint32_t)n;
+            ADD_POINT(x, t);
+        }
+    }
+#undef ADD_POINT
+    p->n = n;
+}
+
+/* The shade vector (SL_SHADE_FLOATS) of K-buffer entry i of pixel px. */
+static void entry_shade(const sl_renderer *r, const sl_hair *h, const shade_map *m,
+                        const sl_shade_points *p, size_t px, int i, float *v) {
+    const sl_kfrag *f = &r->kbuf[px * r->vK + i];
+    if (r->rate_k == 0) {
+        memcpy(v, p->out + (size_t)SL_SHADE_FLOATS * m->entry[px * r->vK + i],
+               SL_SHADE_FLOATS * sizeof *v);
+        return;
+    }
+    uint32_t lo, hi;
+    anchors_of(h, m->strand_of, f->seg, r->rate_k, &lo, &hi);
+    float w = hi > lo ? ((float)(f->seg - lo) + f->t) / (float)(hi - lo) : 0.0f;
+    w = w < 0 ? 0 : (w > 1 ? 1 : w);
+    const float *a = p->out + (size_t)SL_SHADE_FLOATS * m->anchor[lo];
+    const float *b = p->out + (size_t)SL_SHADE_FLOATS * m->anchor[hi];
+    for (int q = 0; q < SL_SHADE_FLOATS; q++)
+        v[q] = a[q] + w * (b[q] - a[q]);
+}
+
+static int alloc_fbuf(sl_fbuf *f, int w, int h) {
+    memset(f, 0, sizeof *f);
+    size_t n = (size_t)w * h;
+    f->width = w, f->height = h;
+    f->rgba = sl_calloc(4 * n, sizeof(float));
+    f->depth = sl_malloc(n * sizeof(float));
+    for (int k = 0; k < 4; k++)
+        f->mode[k] = sl_calloc(3 * n, sizeof(float));
+    f->shadow = sl_calloc(n, sizeof(float));
+    f->lobes = sl_calloc(n, sizeof(float));
+    for (size_t i = 0; i < n; i++)
+        f->depth[i] = INFINITY;
+    return 0;
+}
+
+int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const sl_lobes *lobes,
+                      const sl_camera *cam, sl_fbuf *out, sl_err *e) {
+    double t_start = sl_now(), t0;
+    r->npass = 0;
+    memset(out, 0, sizeof *out);
+    const sl_material *mat = &s->material;
+    if (mat->model != SL_MODEL_MARSCHNER)
+        return sl_fail(e, "render: material model deon: the SRBF response (xu/fast) exists for "
+                          "the Marschner model only (docs/srbf.md)");
+    if (lobes->count < 1) return sl_fail(e, "render: the environment has no lobes");
+    int rate;
+    if (sl_shading_rate_parse(s->shading_rate, &rate, e)) return -1;
+    if (!r->have_tables) {
+        t0 = sl_now();
+        if (sl_srbf_tables_get(&r->tables, 0, e)) return -1;
+        r->have_tables = 1;
+        sl_frame_pass(r, "tables", SL_PASS_RUN, sl_now() - t0, "SRBF C_k/H_k tables %s",
+                      r->tables.from_cache ? "loaded from the disk cache" : "built");
+    } else {
+        sl_frame_pass(r, "tables", SL_PASS_CACHED, 0, "SRBF tables kept in memory");
+    }
+
+    /* lobes: skip those whose share of the total power is negligible */
+    static const double lum[3] = {0.2126, 0.7152, 0.0722};
+    double *power = sl_malloc(lobes->count * sizeof *power), total = 0;
+    for (int j = 0; j < lobes->count; j++) {
+        const sl_lobe *lb = &lobes->lobe[j];
+        power[j] = (lum[0] * lb->rgb[0] + lum[1] * lb->rgb[1] + lum[2] * lb->rgb[2]) *
+                   sl_lobe_integral(lb->lambda);
+        total += power[j];
+    }
+    int *used = sl_malloc(lobes->count * sizeof *used), nused = 0;
+    double *share = sl_malloc(lobes->count * sizeof *share), skipped_share = 0;
+    for (int j = 0; j < lobes->count; j++) {
+        double sh = total > 0 ? power[j] / total : 0;
+        if (sh >= r->o.lobe_threshold) {
+            share[nused] = sh;
+            used[nused++] = j;
+        } else {
+            skipped_share += sh;
+        }
+    }
+    free(power);
+    r->lobes_used = nused;
+    if (nused < lobes->count)
+        sl_frame_pass(r, "lobes", SL_PASS_SKIPPED, 0,
+                      "%d of %d lobes below %.3g of the total power (together %.2g %%) left out",
+                      lobes->count - nused, lobes->count, r->o.lobe_threshold, 100 * skipped_share);
+    else
+        sl_frame_pass(r, "lobes", SL_PASS_RUN, 0, "all %d lobes above %.3g of the total power",
+                      nused, r->o.lobe_threshold);
+
+    int rc = -1;
+    sl_shade_points pts = {0};
+    shade_map sm = {0};
+    if (light_pass(r, s, h, lobes, used, nused, e)) goto done;
+
+    /* dual-scattering tables and the multiple-scattering decision */
+    t0 = sl_now();
+    uint64_t dk = 0x22; /* field by field: the struct has padding */
+    int mi[4] = {mat->model, mat->fresnel, mat->orders, mat->sigma_a_rgb};
+    dk = sl_hash64(mi, sizeof mi, dk);
+    dk = sl_hash64(&mat->eta, sizeof mat->eta, dk);
+    dk = sl_hash64(mat->alpha, sizeof mat->alpha, dk);
+    dk = sl_hash64(mat->beta, sizeof mat->beta, dk);
+    dk = sl_hash64(mat->sigma_a, sizeof mat->sigma_a, dk);
+    dk = sl_hash64(&mat->eccentricity, sizeof mat->eccentricity, dk);
+    dk = sl_hash64(&mat->caustic_width, sizeof mat->caustic_width, dk);
+    if (!r->dual_ok || dk != r->dual_key) {
+        if (sl_dual_tables_build(mat, &r->dual, e)) goto done;
+        r->dual_ok = 1;
+        r->dual_key = dk;
+    }
+    double ms_share = -1;
+    if (s->multiple_scattering == SL_MS_OFF) {
+        r->ms_on = 0;
+        sl_frame_pass(r, "ms", SL_PASS_SKIPPED, 0, "quality.multiple_scattering is off");
+    } else {
+        ms_share = sl_dual_ms_share(mat);
+        r->ms_on = s->multiple_scattering == SL_MS_ON || ms_share >= SL_FRAME_MS_AUTO_THRESHOLD;
+        if (r->ms_on)
+            sl_frame_pass(r, "ms", SL_PASS_RUN, sl_now() - t0,
+                          "%s: estimated multiple-scattering share %.3f (threshold %.2f)",
+                          s->multiple_scattering == SL_MS_ON ? "on" : "auto", ms_share,
+                          SL_FRAME_MS_AUTO_THRESHOLD);
+        else
+            sl_frame_pass(r, "ms", SL_PASS_SKIPPED, sl_now() - t0,
+                          "auto: dark hair, estimated multiple-scattering share %.4f < %.2f",
+                          ms_share, SL_FRAME_MS_AUTO_THRESHOLD);
+    }
+    if (r->ms_on) {
+        /* volume: voxel grid + shadow-path march toward every used lobe (host/volume.h) */
+        uint64_t vk0 = hash_geometry(h, 0x44);
+        vk0 = sl_hash64(&s->voxels, sizeof s->voxels, vk0);
+        vk0 = sl_hash64(&dk, sizeof dk, vk0);
+        double *dirs = sl_malloc(3 * (nused ? nused : 1) * sizeof *dirs);
+        for (int j = 0; j < nused; j++)
+            for (int k = 0; k < 3; k++)
+                dirs[3 * j + k] = lobes->lobe[used[j]].dir[k];
+        vk0 = sl_hash64(dirs, 3 * nused * sizeof *dirs, vk0);
+        if (r->have_vol && vk0 == r->vol_key) {
+            sl_frame_pass(r, "volume", SL_PASS_CACHED, 0,
+                          "voxel grid and march textures reused (geometry, lobes, material "
+                          "unchanged)");
+        } else {
+            free_volume(r);
+            t0 = sl_now();
+            sl_march_opts mo;
+            sl_march_opts_default(&mo);
+            if (sl_voxelize(r->dev, h, s->voxels, &r->vgrid, e)) {
+                free(dirs);
+                goto done;
+            }
+            if (sl_march_build(r->dev, &r->vgrid, &r->dual, nused, dirs, &mo, &r->ftex, e)) {
+                sl_voxel_grid_free(&r->vgrid);
+                free(dirs);
+                goto done;
+            }
+            r->have_vol = 1;
+            r->vol_key = vk0;
+            sl_frame_pass(r, "volume", SL_PASS_RUN, sl_now() - t0,
+                          "voxels %dx%dx%d, march %d paths toward %d lobes (%zu active vertices)",
+                          r->vgrid.n[0], r->vgrid.n[1], r->vgrid.n[2], mo.paths, nused,
+                          r->ftex.active);
+        }
+        free(dirs);
+        if (!r->have_vms || r->vms_key != dk) {
+            if (r->have_vms) sl_volume_ms_free(&r->vms);
+            r->have_vms = 0;
+            if (sl_volume_ms_init(mat, &r->vms, e)) goto done;
+            r->have_vms = 1;
+            r->vms_key = dk;
+        }
+    } else {
+        sl_frame_pass(r, "volume", SL_PASS_SKIPPED, 0, "no multiple scattering");
+    }
+
+    /* view pass */
+    int K = s->oit_layers > 0 ? s->oit_layers : 8;
+    if (K > SL_KBUFFER_MAX) K = SL_KBUFFER_MAX;
+    int transparent = hair_transparent(h);
+    uint64_t vk = hash_geometry(h, 0x33);
+    if (h->transparency) vk = sl_hash64(h->transparency, (size_t)h->num_points * sizeof(float), vk);
+    vk = sl_hash64(&h->default_transparency, sizeof(float), vk);
+    vk = sl_hash64(cam, sizeof *cam, vk);
+    vk = sl_hash64(&K, sizeof K, vk);
+    if (r->kbuf && vk == r->view_key) {
+        sl_frame_pass(r, "view", SL_PASS_CACHED, 0,
+                      "K-buffer reused (geometry, camera and K unchanged)");
+    } else {
+        t0 = sl_now();
+        r->view_key = 0; /* a failed view pass leaves nothing valid behind */
+        if (sl_frame_view(r, h, cam, K, e)) goto done;
+        r->view_key = vk;
+        size_t npx = (size_t)r->vw * r->vh;
+        int maxc = 0;
+        for (size_t i = 0; i < npx; i++)
+            if (r->kcount[i] > maxc) maxc = r->kcount[i];
+        sl_frame_pass(r, "view", SL_PASS_RUN, sl_now() - t0,
+                      "%zu fragments, K=%d (deepest pixel %d), %zu merged on overflow, "
+                      "K-buffer on %s; %s",
+                      r->frags, K, maxc, r->merges, r->kbuf_on_device ? "OpenCL" : "C",
+                      transparent ? "per-point transparency applied"
+                                  : "opaque hair: coverage only (transparency channel skipped)");
+    }
+
+    /* shading rate */
+    if (rate < 0) {
+        /* auto: shading dominates the CPU cost, so shade at strand vertices (interpolated along
+         * the strand) unless segments project longer than SL_FRAME_AUTO_FRAGMENT_PX, where the
+         * linear interpolation would visibly flatten highlights; segments shorter than a pixel
+         * are shaded every k-th vertex, k = floor(2 px / length), so shaded points stay about
+         * 2 px apart on screen (k <= 8) */
+        float L = r->seg_px_median;
+        if (L >= SL_FRAME_AUTO_FRAGMENT_PX)
+            rate = 0;
+        else {
+            int k = L > 0 ? (int)floorf(2.0f / L) : 8;
+            rate = k < 1 ? 1 : (k > 8 ? 8 : k);
+        }
+    }
+    r->rate_k = rate;
+
+    /* shading points, transmittance lookups, shading */
+    t0 = sl_now();
+    sm.strand_of = sl_malloc((h->num_points ? h->num_points : 1) * sizeof *sm.strand_of);
+    for (uint32_t st = 0; st < h->num_strands; st++)
+        for (uint32_t i = h->strand_first[st]; i < h->strand_first[st + 1]; i++)
+            sm.strand_of[i] = st;
+    build_points(r, h, &sm, &pts);
+    pts.T = sl_malloc(((size_t)nused * pts.n + 1) * sizeof *pts.T);
+    pts.out = sl_malloc((pts.n * SL_SHADE_FLOATS + 1) * sizeof *pts.out);
+    {
+        double *Td = sl_malloc((pts.n + 1) * sizeof *Td);
+        for (int j = 0; j < nused; j++) {
+            if (sl_shadow_lookup(r->dev, &r->light[j], pts.n, pts.pos, Td, e)) {
+                free(Td);
+                goto done;
+            }
+            for (size_t i = 0; i < pts.n; i++)
+                pts.T[(size_t)j * pts.n + i] = (float)Td[i];
+        }
+        free(Td);
+    }
+    sl_frame_pass(r, "lookup", SL_PASS_RUN, sl_now() - t0,
+                  "transmittance of %zu shading points toward %d lobes", pts.n, nused);
+    t0 = sl_now();
+    sl_shade_ctx sc = {mat, lobes, used, nused, share, cam, r->ms_on, &r->ftex, &r->vms};
+    if (sl_frame_shade(r, &sc, &pts, e)) goto done;
+    double lobes_eval = 0;
+    for (size_t i = 0; i < pts.n; i++)
+        lobes_eval += pts.out[SL_SHADE_FLOATS * i + 13];
+    char ratebuf[48];
+    if (rate == 0)
+        snprintf(ratebuf, sizeof ratebuf, "fragment");
+    else
+        snprintf(ratebuf, sizeof ratebuf, "vertex:%d", rate);
+    sl_frame_pass(r, "shade", SL_PASS_RUN, sl_now() - t0,
+                  "rate %s (%s; median segment %.2f px): %zu points, %.0f lobe evaluations "
+                  "(%.1f per point), SRBF %s on %s",
+                  ratebuf, strcmp(s->shading_rate, "auto") ? "quality.shading_rate" : "auto",
+                  r->seg_px_median, pts.n, lobes_eval, pts.n ? lobes_eval / pts.n : 0.0,
+                  r->o.srbf_method == SL_SRBF_METHOD_FAST ? "fast" : "xu",
+                  sl_frame_srbf_on_device(r) ? "OpenCL"
+                  : r->dev->is_opencl
+                      ? "C (auto picked a CPU OpenCL device; the C twin is faster there)"
+                      : "C");
+
+    /* resolve */
+    t0 = sl_now();
+    alloc_fbuf(out, r->vw, r->vh);
+    size_t npx = (size_t)r->vw * r->vh;
+    for (size_t px = 0; px < npx; px++) {
+        int n = r->kcount[px];
+        if (!n) continue;
+        float wt[SL_KBUFFER_MAX], v[SL_SHADE_FLOATS];
+        float alpha = sl_kbuffer_weights(r->kbuf + px * K, n, wt);
+        double acc[SL_SHADE_FLOATS] = {0};
+        for (int i = 0; i < n; i++) {
+            entry_shade(r, h, &sm, &pts, px, i, v);
+            for (int q = 0; q < SL_SHADE_FLOATS; q++)
+                acc[q] += (double)wt[i] * v[q];
+        }
+        for (int c = 0; c < 3; c++) {
+            double sum = 0;
+            for (int m = 0; m < 4; m++) {
+                out->mode[m][3 * px + c] = (float)acc[3 * m + c];
+                sum += acc[3 * m + c];
+            }
+            out->rgba[4 * px + c] = (float)sum;
+        }
+        out->rgba[4 * px + 3] = alpha;
+        out->depth[px] = r->kbuf[px * K].z;
+        out->shadow[px] = alpha > 0 ? (float)(acc[12] / alpha) : 0.0f;
+        out->lobes[px] = alpha > 0 ? (float)(acc[13] / alpha) : 0.0f;
+    }
+    sl_frame_pass(r, "resolve", SL_PASS_RUN, sl_now() - t0,
+                  "front-to-back compositing of %dx%d pixels%s", r->vw, r->vh,
+                  transparent ? "" : " (opaque hair: coverage alpha only)");
+    rc = 0;
+done:
+    free(used);
+    free(share);
+    free(pts.pos);
+    free(pts.tan);
+    free(pts.T);
+    free(pts.out);
+    free(sm.strand_of);
+    free(sm.anchor);
+    free(sm.entry);
+    if (rc) sl_fbuf_free(out);
+    r->total_s = sl_now() - t_start;
+    return rc;
+}

@@ -1,0 +1,121 @@
+/* volume_eval.c: `eval forward-transmittance`: loads the scene's hair, material and SRBF lobes
+ * (as host/shadow_eval.c does for `transmittance`) and evaluates T_f and sigma_f per row: the
+ * fiber-exact reference or the volume passes (host/volume.h) on the C twin or OpenCL. */
+#include "volume_eval.h"
+
+#include "dual.h"
+#include "env_lighting.h"
+#include "march_ref.h"
+#include "scene.h"
+#include "scene_hair.h"
+#include "volume.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_EVENTS 100000
+
+int sl_volume_eval_forward(const char *scene_path, sl_eval_backend b, sl_cl *cl, size_t n,
+                           const double *in, const long *line_no, double *out, sl_err *e) {
+    sl_scene *s = sl_malloc(sizeof *s);
+    sl_hair h;
+    sl_lobes lobes;
+    memset(&h, 0, sizeof h);
+    memset(&lobes, 0, sizeof lobes);
+    int rc = -1;
+    if (sl_scene_load(scene_path, s, e)) goto done;
+    const sl_material *m = &s->material;
+    if (m->model != SL_MODEL_MARSCHNER) {
+        sl_fail(e,
+                "%s: material.model: forward-transmittance needs the dual-scattering terms, "
+                "which support model marschner only",
+                scene_path);
+        goto done;
+    }
+    int nch = sl_eval_num_channels(SL_EVAL_FORWARD_TRANSMITTANCE, m);
+    /* environment.lobes (or fitted, cached), turned by environment.rotation_deg as rendered. */
+    if (sl_scene_lobes(s, 0, &lobes, e)) goto done;
+    sl_lobes_transform(&lobes, s->env_rotation_deg, 1.0);
+    for (size_t i = 0; i < n; i++)
+        if (in[4 * i + 3] >= lobes.count) {
+            sl_fail(e, "<stdin>:%ld: lobe: %.0f is out of range (the scene has %d lobes, 0..%d)",
+                    line_no ? line_no[i] : (long)i + 2, in[4 * i + 3], lobes.count,
+                    lobes.count - 1);
+            goto done;
+        }
+    if (sl_scene_load_hair(s, &h, e)) goto done;
+    if (n == 0) {
+        rc = 0;
+        goto done;
+    }
+    if (b == SL_EVAL_REFERENCE) {
+        double *theta = sl_malloc(MAX_EVENTS * sizeof *theta);
+        slref_dual_cache cache[3];
+        memset(cache, 0, sizeof cache);
+        for (size_t i = 0; i < n; i++) {
+            const double *w = lobes.lobe[(int)in[4 * i + 3]].dir;
+            size_t k = slref_march_events(&h, in + 4 * i, w, theta, MAX_EVENTS);
+            if (k > MAX_EVENTS) k = MAX_EVENTS; /* T_f is 0 to double precision long before */
+            for (int c = 0; c < nch; c++) {
+                double *y = out + ((size_t)c * n + i) * 2;
+                slref_forward_from_events(m, c, theta, k, &cache[c], &y[0], &y[1]);
+            }
+        }
+        rc = 0;
+        free(theta);
+        goto done;
+    }
+    sl_device dev;
+    memset(&dev, 0, sizeof dev);
+    if (b == SL_EVAL_OPENCL) {
+        if (!cl) {
+            sl_fail(e, "eval: --backend opencl needs a device");
+            goto done;
+        }
+        dev.is_opencl = 1;
+        dev.cl = cl; /* explicit device: never falls back */
+    }
+    sl_dual_tables dt;
+    if (sl_dual_tables_build(m, &dt, e)) goto done;
+    /* March only the lobes the rows ask for. */
+    int *slot = sl_malloc((size_t)lobes.count * sizeof *slot);
+    double *dirs = sl_malloc((size_t)lobes.count * 3 * sizeof *dirs);
+    int nl = 0;
+    for (int j = 0; j < lobes.count; j++)
+        slot[j] = -1;
+    for (size_t i = 0; i < n; i++) {
+        int j = (int)in[4 * i + 3];
+        if (slot[j] < 0) {
+            slot[j] = nl;
+            memcpy(dirs + 3 * nl++, lobes.lobe[j].dir, 3 * sizeof *dirs);
+        }
+    }
+    sl_voxel_grid g;
+    sl_ftex f;
+    sl_march_opts o;
+    sl_march_opts_default(&o);
+    if (!sl_voxelize(&dev, &h, s->voxels, &g, e)) {
+        if (!sl_march_build(&dev, &g, &dt, nl, dirs, &o, &f, e)) {
+            for (size_t i = 0; i < n; i++) {
+                float T[3], sg[3];
+                sl_ftex_lookup(&f, slot[(int)in[4 * i + 3]], in + 4 * i, T, sg);
+                for (int c = 0; c < nch; c++) {
+                    double *y = out + ((size_t)c * n + i) * 2;
+                    y[0] = T[c];
+                    y[1] = sg[c];
+                }
+            }
+            sl_ftex_free(&f);
+            rc = 0;
+        }
+        sl_voxel_grid_free(&g);
+    }
+    free(slot);
+    free(dirs);
+done:
+    sl_lobes_free(&lobes);
+    sl_hair_free(&h);
+    free(s);
+    return rc;
+}

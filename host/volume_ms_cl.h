@@ -1,0 +1,14 @@
+/* volume_ms_cl.h: enqueues kernels/ms.cl (the multiple-scattering response rows; C side
+ * host/volume_ms.c). */
+#ifndef SL_VOLUME_MS_CL_H
+#define SL_VOLUME_MS_CL_H
+
+#include "clrt.h"
+#include "volume_ms.h"
+
+/* n rows of 6 floats (theta_o, phi_o, theta_j, phi_j, lambda, sigma_f) -> 2 floats (M^G, M^L) of
+ * channel ch. Returns 0, -1 or SL_CL_EKERNEL. */
+int slcl_ms_response_rows(sl_cl *cl, const sl_volume_ms *ms, int ch, size_t n, const float *in,
+                          float *out, sl_err *e);
+
+#endif

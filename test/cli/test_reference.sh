@@ -1,0 +1,94 @@
+# test_reference.sh: `strandlight reference` end to end on a tiny scene (32x24, 20 procedural
+# strands, a 16x8 sky map cut into 4 lights): it writes a float EXR with the documented
+# channels and a JSON record with the convergence (4 vs 8 lights), a second run reuses the
+# cached result (no render), the image does not depend on the thread count, and bad input gives
+# a one-line error and no output file. The numerics are checked by unit_tests reference_.
+. test/cli/lib.sh
+D="$TMP/reference"
+rm -rf "$D"
+mkdir -p "$D"
+if [ -z "${PY:-}" ]; then
+    if [ -x /usr/bin/python3 ]; then PY=/usr/bin/python3; else PY=python3; fi
+fi
+if ! command -v "$PY" >/dev/null 2>&1; then skip reference "no python3"; exit 0; fi
+
+"$PY" - "$D" <<'PYEOF'
+import sys, math
+d = sys.argv[1]
+# 16 x 8 flat RGBE map: a bright warm band near the top, a dim blue ground.
+w, h = 16, 8
+def rgbe(r, g, b):
+    m = max(r, g, b)
+    if m < 1e-32: return bytes([0, 0, 0, 0])
+    e = math.frexp(m)[1]
+    s = 256.0 / (2.0 ** e)
+    return bytes([int(r * s), int(g * s), int(b * s), e + 128])
+px = b"".join(rgbe(*((4.0, 3.0, 2.0) if y < 2 else (0.2, 0.3, 0.6))) for y in range(h) for x in range(w))
+open(d + "/sky.hdr", "wb").write(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" % (h, w) + px)
+base = '"hair": {"procedural": {"style": "wavy", "strands": 20, "points": 8, "seed": 2}, "radius": 0.3}, "environment": {"file": "sky.hdr"}, "image": {"width": 32, "height": 24}, "quality": {"multiple_scattering": "%s"}'
+open(d + "/scene.json", "w").write("{" + base % "off" + "}\n")
+open(d + "/scene_ms.json", "w").write("{" + base % "on" + "}\n")
+open(d + "/nomap.json", "w").write('{"hair": {"procedural": {"style": "wavy", "strands": 20, "points": 8}}, "environment": {"lobes": "x.json"}}\n')
+open(d + "/badkey.json", "w").write('{"hair": {"procedural": {"style": "wavy"}}, "bogus": 1}\n')
+PYEOF
+
+run() { "$SL" reference "$@" 2>"$D/stderr"; }
+
+if run "$D/scene.json" -o "$D/a/ref.exr" --lights 4 --aa 2 --threads 1; then
+    if [ -s "$D/a/ref.exr" ] && [ -s "$D/a/ref.exr.json" ]; then pass reference_writes_exr_json; else fail reference_writes_exr_json "missing outputs"; fi
+    if grep -q "convergence: 4 vs 8 lights: rel RMSE" "$D/stderr"; then pass reference_convergence_stderr; else fail reference_convergence_stderr "$(cat "$D/stderr")"; fi
+else
+    fail reference_writes_exr_json "exit $?: $(cat "$D/stderr")"
+fi
+# The JSON: convergence present and finite, lights = 4; the EXR: float channels R G B A Z ms.*.
+msg=$("$PY" - "$D/a/ref.exr.json" <<'PYEOF'
+import json, sys, math
+r = json.load(open(sys.argv[1]))["reference"]
+c = r.get("convergence", {})
+bad = []
+if r.get("lights") != 4: bad.append("lights %r" % r.get("lights"))
+if not (isinstance(c.get("rel_rmse"), (int, float)) and math.isfinite(c["rel_rmse"]) and c["rel_rmse"] > 0): bad.append("rel_rmse %r" % c.get("rel_rmse"))
+if c.get("lights_2n") != 8: bad.append("lights_2n")
+print("; ".join(bad))
+PYEOF
+)
+if [ -z "$msg" ]; then pass reference_json_fields; else fail reference_json_fields "$msg"; fi
+if "$SL" info "$D/a/ref.exr" 2>/dev/null | grep -q "TRT.B"; then pass reference_exr_channels; else skip reference_exr_channels "info does not list EXR channels"; fi
+
+# Cached: the same inputs give "cached" without rendering, and the EXR is untouched.
+before=$(stat -c %Y.%s "$D/a/ref.exr")
+sleep 1
+if run "$D/scene.json" -o "$D/a/ref.exr" --lights 4 --aa 2 --threads 2 && grep -q "cached" "$D/stderr" && [ "$(stat -c %Y.%s "$D/a/ref.exr")" = "$before" ]; then
+    pass reference_cached
+else
+    fail reference_cached "$(cat "$D/stderr")"
+fi
+# A different setting is not the cached one.
+if run "$D/scene.json" -o "$D/a/ref.exr" --lights 4 --aa 1 --no-convergence && ! grep -q "cached" "$D/stderr"; then
+    pass reference_cache_key_settings
+else
+    fail reference_cache_key_settings "$(cat "$D/stderr")"
+fi
+
+# Thread count: byte-identical EXR (same writer, same pixels).
+run "$D/scene.json" -o "$D/t1.exr" --lights 4 --threads 1 --no-convergence
+run "$D/scene.json" -o "$D/t3.exr" --lights 4 --threads 3 --no-convergence
+if [ -s "$D/t1.exr" ] && cmp -s "$D/t1.exr" "$D/t3.exr"; then pass reference_threads_identical; else fail reference_threads_identical "t1.exr and t3.exr differ"; fi
+
+# Multiple scattering on: renders, and the ms channels are recorded.
+if run "$D/scene_ms.json" -o "$D/ms.exr" --lights 2 --no-convergence && grep -Eq '"multiple_scattering":[[:space:]]*true' "$D/ms.exr.json"; then
+    pass reference_ms_runs
+else
+    fail reference_ms_runs "$(cat "$D/stderr")"
+fi
+
+expect_error reference_needs_map "environment.file: the reference needs an environment map" "$SL" reference "$D/nomap.json" -o "$D/x.exr"
+[ -e "$D/x.exr" ] && fail reference_no_output_on_error "x.exr written" || pass reference_no_output_on_error
+expect_error reference_bad_scene "bogus" "$SL" reference "$D/badkey.json" -o "$D/y.exr"
+[ -e "$D/y.exr" ] && fail reference_no_output_bad_scene "y.exr written" || pass reference_no_output_bad_scene
+expect_error reference_missing_scene "nope.json" "$SL" reference "$D/nope.json" -o "$D/z.exr"
+"$SL" reference --lights 0 "$D/scene.json" >/dev/null 2>&1; rc=$?
+if [ "$rc" = 2 ]; then pass reference_usage_lights; else fail reference_usage_lights "exit $rc (want 2)"; fi
+expect_output reference_help "--lights N" "$SL" reference --help
+no_leftovers reference_no_temporaries "$D"
+no_leftovers reference_no_temporaries_a "$D/a"

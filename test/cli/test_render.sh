@@ -1,0 +1,80 @@
+# test_render.sh: `strandlight render` (docs/frame.md) on a tiny scene (lobes from a file, 48x36):
+# AOV channels present in the EXR, --explain's plan (an orbit frame reuses every light pass; dark
+# hair skips multiple scattering), --orbit N --frames A:B halves byte-identical to one full run,
+# and bad input: a one-line error and no output file.
+. test/cli/lib.sh
+D="$TMP/render"
+rm -rf "$D"; mkdir -p "$D"
+cat > "$D/lobes.json" <<'JSON'
+{"lobes": [{"dir": [0, 1, 0], "lambda": 0.5, "rgb": [1, 0.9, 0.8]},
+           {"dir": [0.6, 0, 0.8], "lambda": 0.8, "rgb": [0.4, 0.5, 0.6]}]}
+JSON
+scene() { # scene NAME SIGMA_A EXTRA_OUTPUT
+    cat > "$D/$1.json" <<JSON
+{
+  "hair": {"procedural": {"style": "wavy", "strands": 120, "points": 8, "seed": 2}, "radius": 0.04},
+  "material": {"eta": 1.55, "sigma_a": $2},
+  "environment": {"lobes": "lobes.json"},
+  "image": {"width": 48, "height": 36},
+  "quality": {"multiple_scattering": "auto"},
+  "output": {"exr": "out/$1.exr"$3}
+}
+JSON
+}
+scene tiny "[0.18, 0.32, 0.62]" ', "aovs": ["R", "TT", "TRT", "MS", "shadow", "lobes"]'
+scene dark "8.0" ""
+scene plain "[0.18, 0.32, 0.62]" ""
+
+# AOVs from the scene: every channel name is in the EXR header (stored as plain strings)
+expect_ok render_tiny "$SL" render "$D/tiny.json" --device c
+miss=""
+for c in R G B A Z R_mode.R R_mode.G R_mode.B TT.R TT.G TT.B TRT.R TRT.G TRT.B MS.R MS.G MS.B shadow.Y lobes.Y; do
+    head -c 2000 "$D/out/tiny.exr" | tr '\0' '\n' | grep -qx -- "$c" || miss="$miss $c"
+done
+if [ -z "$miss" ]; then pass render_aovs_present; else fail render_aovs_present "missing:$miss"; fi
+# without output.aovs: only beauty, alpha and depth
+expect_ok render_plain "$SL" render "$D/plain.json" --device c
+if head -c 2000 "$D/out/plain.exr" | tr '\0' '\n' | grep -qx 'TT.R'; then
+    fail render_no_aovs_by_default "TT.R written without being asked"
+else
+    pass render_no_aovs_by_default
+fi
+# --aov on the command line
+expect_ok render_aov_option "$SL" render "$D/plain.json" --device c --aov TT,shadow --exr "$D/out/opt.exr"
+if head -c 2000 "$D/out/opt.exr" | tr '\0' '\n' | grep -qx 'shadow.Y'; then pass render_aov_option_channel; else fail render_aov_option_channel "no shadow.Y"; fi
+no_leftovers render_no_temp "$D/out"
+
+# --explain: the planner's decisions
+out=$("$SL" render "$D/dark.json" --device c --explain 2>/dev/null)
+if printf '%s\n' "$out" | grep -q '^ms  *skipped.*dark hair'; then pass render_explain_dark_skips_ms
+else fail render_explain_dark_skips_ms "$(printf '%s' "$out" | grep '^ms')"; fi
+out=$("$SL" render "$D/plain.json" --device c --explain --orbit 3 --exr "$D/orbit/o.exr" 2>/dev/null)
+n_run=$(printf '%s\n' "$out" | grep -c '^light  *run')
+n_cached=$(printf '%s\n' "$out" | grep -c '^light  *cached')
+if [ "$n_run" -eq 1 ] && [ "$n_cached" -eq 2 ]; then pass render_orbit_reuses_light
+else fail render_orbit_reuses_light "light run $n_run, cached $n_cached (want 1, 2)"; fi
+if [ -f "$D/orbit/o_0000.exr" ] && [ -f "$D/orbit/o_0002.exr" ]; then pass render_orbit_files
+else fail render_orbit_files "$(ls "$D/orbit" 2>&1)"; fi
+
+# --frames: two halves of a 4-frame orbit, in two processes, equal one full run byte for byte
+"$SL" render "$D/plain.json" --device c --orbit 4 --exr "$D/full/f.exr" 2>/dev/null
+"$SL" render "$D/plain.json" --device c --orbit 4 --frames 0:2 --exr "$D/half/f.exr" 2>/dev/null &
+"$SL" render "$D/plain.json" --device c --orbit 4 --frames 2:4 --exr "$D/half/f.exr" 2>/dev/null
+wait
+bad=""
+for i in 0000 0001 0002 0003; do cmp -s "$D/full/f_$i.exr" "$D/half/f_$i.exr" || bad="$bad $i"; done
+if [ -z "$bad" ]; then pass render_frames_halves_equal_full; else fail render_frames_halves_equal_full "differ:$bad"; fi
+
+# bad input: one line, exit 1 (or 2 for usage), no output file
+printf '{"hair": {"procedural": {"strands": 10}}, "camera": {"fov_deg": "wide"}, "environment": {"lobes": "lobes.json"}, "output": {"exr": "out/bad.exr"}}\n' > "$D/bad.json"
+expect_error render_bad_scene "camera.fov_deg" "$SL" render "$D/bad.json" --device c
+if [ -e "$D/out/bad.exr" ]; then fail render_bad_scene_no_output "out/bad.exr exists"; else pass render_bad_scene_no_output; fi
+printf '{"hair": {"procedural": {"strands": 10}}, "environment": {"lobes": "missing.json"}, "output": {"exr": "out/bad2.exr"}}\n' > "$D/bad2.json"
+expect_error render_missing_lobes "missing.json" "$SL" render "$D/bad2.json" --device c
+if [ -e "$D/out/bad2.exr" ]; then fail render_missing_lobes_no_output "exists"; else pass render_missing_lobes_no_output; fi
+"$SL" render "$D/plain.json" --frames 0:1 >/dev/null 2>&1
+if [ $? -eq 2 ]; then pass render_frames_needs_orbit; else fail render_frames_needs_orbit "exit not 2"; fi
+"$SL" render "$D/plain.json" --orbit 2 --frames 1:3 >/dev/null 2>&1
+if [ $? -eq 2 ]; then pass render_frames_range; else fail render_frames_range "exit not 2"; fi
+"$SL" render "$D/plain.json" --shading-rate vertex:0 >/dev/null 2>&1
+if [ $? -eq 2 ]; then pass render_bad_rate; else fail render_bad_rate "exit not 2"; fi
