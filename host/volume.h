@@ -14,7 +14,7 @@
  *   sl_ftex_lookup(&f, lobe, p, Tf, sf);                 (trilinear; per colour channel)
  *   sl_ftex_free(&f); sl_voxel_grid_free(&g);
  *
- * The multiple-scattering response per fragment and lobe (Xu Eq. 27-31) is in host/ms.h. */
+ * The multiple-scattering response per fragment and lobe (Xu Eq. 27-31) is in host/volume_ms.h. */
 #ifndef SL_VOLUME_H
 #define SL_VOLUME_H
 
