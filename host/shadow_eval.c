@@ -4,9 +4,8 @@
  * all the lobes the rows use (sl_shadow_build_batch). */
 #include "shadow_eval.h"
 
+#include "eval_scene.h"
 #include "scene_hair.h"
-
-#include "env_lighting.h"
 #include "scene.h"
 #include "shadow.h"
 #include "transmittance_ref.h"
@@ -25,17 +24,7 @@ int sl_shadow_eval_transmittance(const char *scene_path, sl_eval_backend b, sl_c
     memset(&lobes, 0, sizeof lobes);
     int rc = -1;
     if (sl_scene_load(scene_path, s, e)) goto done;
-    /* environment.lobes, or quality.lobes lobes fitted to environment.file (cached); the lobe
-     * directions turned by environment.rotation_deg as the renderer turns them. */
-    if (sl_scene_lobes(s, 0, &lobes, e)) goto done;
-    sl_lobes_transform(&lobes, s->env_rotation_deg, 1.0);
-    for (size_t i = 0; i < n; i++)
-        if (in[4 * i + 3] >= lobes.count) {
-            sl_fail(e, "<stdin>:%ld: lobe: %.0f is out of range (the scene has %d lobes, 0..%d)",
-                    line_no ? line_no[i] : (long)i + 2, in[4 * i + 3], lobes.count,
-                    lobes.count - 1);
-            goto done;
-        }
+    if (sl_eval_scene_lobes(s, n, in, line_no, &lobes, e)) goto done;
     if (sl_scene_load_hair(s, &h, e)) goto done;
     if (n == 0) {
         rc = 0;

@@ -4,8 +4,8 @@
 #include "volume_eval.h"
 
 #include "dual.h"
-#include "env_lighting.h"
 #include "march_ref.h"
+#include "eval_scene.h"
 #include "scene.h"
 #include "scene_hair.h"
 #include "volume.h"
@@ -34,16 +34,7 @@ int sl_volume_eval_forward(const char *scene_path, sl_eval_backend b, sl_cl *cl,
         goto done;
     }
     int nch = sl_eval_num_channels(SL_EVAL_FORWARD_TRANSMITTANCE, m);
-    /* environment.lobes (or fitted, cached), turned by environment.rotation_deg as rendered. */
-    if (sl_scene_lobes(s, 0, &lobes, e)) goto done;
-    sl_lobes_transform(&lobes, s->env_rotation_deg, 1.0);
-    for (size_t i = 0; i < n; i++)
-        if (in[4 * i + 3] >= lobes.count) {
-            sl_fail(e, "<stdin>:%ld: lobe: %.0f is out of range (the scene has %d lobes, 0..%d)",
-                    line_no ? line_no[i] : (long)i + 2, in[4 * i + 3], lobes.count,
-                    lobes.count - 1);
-            goto done;
-        }
+    if (sl_eval_scene_lobes(s, n, in, line_no, &lobes, e)) goto done;
     if (sl_scene_load_hair(s, &h, e)) goto done;
     if (n == 0) {
         rc = 0;

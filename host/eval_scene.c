@@ -1,0 +1,16 @@
+/* eval_scene.c: see eval_scene.h. */
+#include "eval_scene.h"
+
+#include "env_lighting.h"
+
+int sl_eval_scene_lobes(const sl_scene *s, size_t n, const double *rows, const long *line_no,
+                        sl_lobes *lobes, sl_err *e) {
+    if (sl_scene_lobes(s, 0, lobes, e)) return -1;
+    sl_lobes_transform(lobes, s->env_rotation_deg, 1.0);
+    for (size_t i = 0; i < n; i++)
+        if (rows[4 * i + 3] >= lobes->count)
+            return sl_fail(e, "<stdin>:%ld: lobe: %.0f is out of range (the scene has %d lobes, 0..%d)",
+                           line_no ? line_no[i] : (long)i + 2, rows[4 * i + 3], lobes->count,
+                           lobes->count - 1);
+    return 0;
+}
