@@ -750,3 +750,17 @@ CL_API_ENTRY cl_int CL_API_CALL clEnqueueReadBuffer(cl_command_queue q, cl_mem b
     if (!real) return CL_INVALID_OPERATION;
     return real(q, buf, blocking, offset, size, ptr, nwait, wait, ev);
 }
+
+size_t sl_cl_round_up(size_t x, size_t m) { return (x + m - 1) / m * m; }
+
+int sl_cl_run1d(sl_cl *cl, cl_kernel k, const char *name, size_t n, size_t local,
+                sl_cl_timer *timer, sl_err *e) {
+    size_t global = sl_cl_round_up(n ? n : 1, local);
+    cl_event ev = NULL;
+    if (sl_cl_check(clEnqueueNDRangeKernel(sl_cl_queue(cl), k, 1, NULL, &global, &local, 0, NULL,
+                                           timer ? &ev : NULL),
+                    name, e))
+        return -1;
+    if (timer) sl_cl_timer_add(timer, ev);
+    return 0;
+}

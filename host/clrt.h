@@ -118,6 +118,15 @@ void sl_cl_timer_add(sl_cl_timer *t, cl_event ev);
 /* Seconds (always call it: it releases the events): device time when every event had profiling
  * info, else wall time. *is_device (may be NULL) tells which. */
 double sl_cl_timer_stop(sl_cl_timer *t, int *is_device);
+
+/* Rounds x up to a multiple of m (a 1-D launch's global size). */
+size_t sl_cl_round_up(size_t x, size_t m);
+/* Enqueues kernel k (already given its arguments) over n work-items (at least 1) in work-groups
+ * of `local`; the global size is rounded up, so kernels guard their index. With a timer, the
+ * launch's event is added to it. `name` goes into the error message. */
+int sl_cl_run1d(sl_cl *cl, cl_kernel k, const char *name, size_t n, size_t local,
+                sl_cl_timer *timer, sl_err *e);
+
 /* Duration END - START of one finished event in seconds, or -1 when unavailable. */
 double sl_cl_event_seconds(cl_event ev);
 

@@ -6,22 +6,6 @@
 #define DODM_FILE "dodm.cl"
 #define LOCAL 64u
 
-static size_t round_up(size_t x, size_t m) {
-    return (x + m - 1) / m * m;
-}
-
-static int run1d(sl_cl *cl, cl_kernel k, const char *name, size_t n, sl_cl_timer *timer,
-                 sl_err *e) {
-    size_t global = round_up(n ? n : 1, LOCAL), local = LOCAL;
-    cl_event ev = NULL;
-    if (sl_cl_check(clEnqueueNDRangeKernel(sl_cl_queue(cl), k, 1, NULL, &global, &local, 0, NULL,
-                                           timer ? &ev : NULL),
-                    name, e))
-        return -1;
-    if (timer) sl_cl_timer_add(timer, ev);
-    return 0;
-}
-
 int slcl_dodm_tables_buf(sl_cl *cl, cl_mem bins, int w, int h, unsigned K, unsigned nl,
                          sl_cl_timer *timer, sl_err *e) {
     cl_kernel kc, kr, kcol;
@@ -45,9 +29,9 @@ int slcl_dodm_tables_buf(sl_cl *cl, cl_mem bins, int w, int h, unsigned K, unsig
     err |= clSetKernelArg(kcol, 2, sizeof ch, &ch);
     err |= clSetKernelArg(kcol, 3, sizeof nk, &nk);
     if (sl_cl_check(err, "dodm: kernel arguments", e)) return -1;
-    if (run1d(cl, kc, "dodm: sl_dodm_cumulate", (size_t)plane * nl, timer, e)) return -1;
-    if (run1d(cl, kr, "dodm: sl_dodm_scan_rows", rows, timer, e)) return -1;
-    return run1d(cl, kcol, "dodm: sl_dodm_scan_cols", (size_t)w * nk, timer, e);
+    if (sl_cl_run1d(cl, kc, "dodm: sl_dodm_cumulate", (size_t)plane * nl, LOCAL, timer, e)) return -1;
+    if (sl_cl_run1d(cl, kr, "dodm: sl_dodm_scan_rows", rows, LOCAL, timer, e)) return -1;
+    return sl_cl_run1d(cl, kcol, "dodm: sl_dodm_scan_cols", (size_t)w * nk, LOCAL, timer, e);
 }
 
 int slcl_dodm_tables(sl_cl *cl, uint64_t *bins, int w, int h, unsigned K, double *kernel_s,
@@ -108,7 +92,7 @@ int slcl_dodm_lookup(sl_cl *cl, const uint32_t *z0bits, const uint64_t *sat, int
     err |= clSetKernelArg(k, 9, sizeof nn, &nn);
     err |= clSetKernelArg(k, 10, sizeof bt, &bt);
     if (sl_cl_check(err, "dodm: sl_dodm_lookup arguments", e)) goto done;
-    if (run1d(cl, k, "dodm: sl_dodm_lookup", n, NULL, e)) goto done;
+    if (sl_cl_run1d(cl, k, "dodm: sl_dodm_lookup", n, LOCAL, NULL, e)) goto done;
     if (sl_cl_check(
             clEnqueueReadBuffer(sl_cl_queue(cl), bt, CL_TRUE, 0, n * sizeof *T, T, 0, NULL, NULL),
             "dodm: read T", e))
@@ -153,5 +137,5 @@ int slcl_dodm_lookup_lobes_buf(sl_cl *cl, cl_mem z0bits, cl_mem sat, int w, int 
     err |= clSetKernelArg(k, 13, sizeof st, &st);
     err |= clSetKernelArg(k, 14, sizeof T, &T);
     if (sl_cl_check(err, "dodm: sl_dodm_lookup_lobes arguments", e)) return -1;
-    return run1d(cl, k, "dodm: sl_dodm_lookup_lobes", work, timer, e);
+    return sl_cl_run1d(cl, k, "dodm: sl_dodm_lookup_lobes", work, LOCAL, timer, e);
 }

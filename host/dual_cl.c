@@ -7,10 +7,6 @@
 
 #define LOCAL 64u
 
-static size_t round_up(size_t x, size_t m) {
-    return (x + m - 1) / m * m;
-}
-
 int slcl_dual_table(sl_cl *cl, const sl_fiber_params *fp, float *tab, sl_err *e) {
     cl_kernel k;
     int rc = sl_cl_get_kernel(cl, "dual.cl", "sl_dual_table_nodes", NULL, &k, e);
@@ -21,7 +17,7 @@ int slcl_dual_table(sl_cl *cl, const sl_fiber_params *fp, float *tab, sl_err *e)
     if (sl_cl_check(err, "dual: clCreateBuffer", e)) return -1;
     err = clSetKernelArg(k, 0, sizeof *fp, fp);
     if (!err) err = clSetKernelArg(k, 1, sizeof b, &b);
-    size_t local = LOCAL, global = round_up(SL_DUAL_N, LOCAL);
+    size_t local = LOCAL, global = sl_cl_round_up(SL_DUAL_N, LOCAL);
     if (!err)
         err = clEnqueueNDRangeKernel(sl_cl_queue(cl), k, 1, NULL, &global, &local, 0, NULL, NULL);
     if (!err)
@@ -59,7 +55,7 @@ int slcl_ms_material_batch(sl_cl *cl, const sl_fiber_params *fp, size_t n, const
     if (!err) err = clSetKernelArg(k, 1, sizeof nn, &nn);
     if (!err) err = clSetKernelArg(k, 2, sizeof bi, &bi);
     if (!err) err = clSetKernelArg(k, 3, sizeof bo, &bo);
-    size_t local = LOCAL, global = round_up(n, LOCAL);
+    size_t local = LOCAL, global = sl_cl_round_up(n, LOCAL);
     if (!err)
         err = clEnqueueNDRangeKernel(sl_cl_queue(cl), k, 1, NULL, &global, &local, 0, NULL, NULL);
     if (!err)

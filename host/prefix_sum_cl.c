@@ -39,10 +39,6 @@ static int get_kernels(sl_cl *cl, sl_ps_variant v, ps_kernels *k, sl_err *e) {
     return sl_cl_get_kernel(cl, PS_FILE, "sl_scan_col_add_offsets", NULL, &k->col_add, e);
 }
 
-static size_t round_up(size_t x, size_t m) {
-    return (x + m - 1) / m * m;
-}
-
 static int enqueue(sl_cl *cl, cl_kernel k, const char *name, const size_t global[2],
                    const size_t *local, sl_cl_timer *timer, sl_err *e) {
     cl_event ev = NULL;
@@ -88,7 +84,7 @@ static int scan_rows(sl_cl *cl, const ps_kernels *k, cl_mem in, cl_mem out, cl_u
         /* Fixed local sizes everywhere: PoCL generates code per local size at the first enqueue
          * (toolchain.md sec. 2), so letting it choose per image shape recompiles often. */
         const size_t global_wg[2] = {(size_t)nt * SL_SCAN_WG, h}, local_wg[2] = {SL_SCAN_WG, 1};
-        const size_t global_serial[2] = {nt, round_up(h, PS_LOCAL)},
+        const size_t global_serial[2] = {nt, sl_cl_round_up(h, PS_LOCAL)},
                      local_serial[2] = {1, PS_LOCAL};
         cl_kernel kt = serial ? k->tiles_serial : k->tiles;
         const char *name = serial ? "sl_scan_tiles_serial" : "sl_scan_tiles";
@@ -102,7 +98,7 @@ static int scan_rows(sl_cl *cl, const ps_kernels *k, cl_mem in, cl_mem out, cl_u
         if (scan_rows(cl, k, sums, scanned, nt, h, timer, e)) goto done;
         const size_t sz[4] = {sizeof out, sizeof scanned, sizeof w, sizeof nt};
         const void *v[4] = {&out, &scanned, &w, &nt};
-        const size_t global[2] = {round_up(w, PS_LOCAL), h}, local[2] = {PS_LOCAL, 1};
+        const size_t global[2] = {sl_cl_round_up(w, PS_LOCAL), h}, local[2] = {PS_LOCAL, 1};
         if (set_args(k->add, "sl_scan_add_offsets", e, 4, sz, v) ||
             enqueue(cl, k->add, "sl_scan_add_offsets", global, local, timer, e))
             goto done;
@@ -126,7 +122,7 @@ static int scan_cols(sl_cl *cl, const ps_kernels *k, cl_mem in, cl_mem out, cl_u
     {
         const size_t sz[5] = {sizeof in, sizeof out, sizeof sums, sizeof w, sizeof h};
         const void *v[5] = {&in, &out, &sums, &w, &h};
-        const size_t global[2] = {round_up(w, PS_LOCAL), nt}, local[2] = {PS_LOCAL, 1};
+        const size_t global[2] = {sl_cl_round_up(w, PS_LOCAL), nt}, local[2] = {PS_LOCAL, 1};
         if (set_args(k->col_tiles, "sl_scan_col_tiles_serial", e, 5, sz, v) ||
             enqueue(cl, k->col_tiles, "sl_scan_col_tiles_serial", global, local, timer, e))
             goto done;
@@ -136,7 +132,7 @@ static int scan_cols(sl_cl *cl, const ps_kernels *k, cl_mem in, cl_mem out, cl_u
         if (scan_cols(cl, k, sums, scanned, w, nt, timer, e)) goto done;
         const size_t sz[3] = {sizeof out, sizeof scanned, sizeof w};
         const void *v[3] = {&out, &scanned, &w};
-        const size_t global[2] = {round_up(w, PS_LOCAL), h}, local[2] = {PS_LOCAL, 1};
+        const size_t global[2] = {sl_cl_round_up(w, PS_LOCAL), h}, local[2] = {PS_LOCAL, 1};
         if (set_args(k->col_add, "sl_scan_col_add_offsets", e, 3, sz, v) ||
             enqueue(cl, k->col_add, "sl_scan_col_add_offsets", global, local, timer, e))
             goto done;
@@ -152,7 +148,7 @@ static int transpose(sl_cl *cl, const ps_kernels *k, cl_mem in, cl_mem out, cl_u
                      sl_cl_timer *timer, sl_err *e) {
     const size_t sz[4] = {sizeof in, sizeof out, sizeof w, sizeof h};
     const void *v[4] = {&in, &out, &w, &h};
-    const size_t global[2] = {round_up(w, SL_TRANSPOSE_TILE), round_up(h, SL_TRANSPOSE_TILE)};
+    const size_t global[2] = {sl_cl_round_up(w, SL_TRANSPOSE_TILE), sl_cl_round_up(h, SL_TRANSPOSE_TILE)};
     const size_t local[2] = {SL_TRANSPOSE_TILE, SL_TRANSPOSE_TILE};
     if (set_args(k->transpose, "sl_transpose", e, 4, sz, v)) return -1;
     return enqueue(cl, k->transpose, "sl_transpose", global, local, timer, e);

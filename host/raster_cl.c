@@ -13,22 +13,6 @@
 #define RASTER_OPTS "-cl-fp32-correctly-rounded-divide-sqrt"
 #define LOCAL 64u
 
-static size_t round_up(size_t x, size_t m) {
-    return (x + m - 1) / m * m;
-}
-
-static int run1d(sl_cl *cl, cl_kernel k, const char *name, size_t n, sl_cl_timer *timer,
-                 sl_err *e) {
-    size_t global = round_up(n ? n : 1, LOCAL), local = LOCAL;
-    cl_event ev = NULL;
-    if (sl_cl_check(clEnqueueNDRangeKernel(sl_cl_queue(cl), k, 1, NULL, &global, &local, 0, NULL,
-                                           timer ? &ev : NULL),
-                    name, e))
-        return -1;
-    if (timer) sl_cl_timer_add(timer, ev);
-    return 0;
-}
-
 int slcl_raster_project_buf(sl_cl *cl, cl_mem pos, cl_mem seg, cl_mem hw, cl_mem views, size_t nseg,
                             unsigned nl, float mscale, cl_mem recs, sl_cl_timer *timer, sl_err *e) {
     cl_kernel k;
@@ -48,7 +32,7 @@ int slcl_raster_project_buf(sl_cl *cl, cl_mem pos, cl_mem seg, cl_mem hw, cl_mem
     err |= clSetKernelArg(k, 6, sizeof mscale, &mscale);
     err |= clSetKernelArg(k, 7, sizeof recs, &recs);
     if (sl_cl_check(err, "raster: sl_raster_project_k arguments", e)) return -1;
-    return run1d(cl, k, "raster: sl_raster_project_k", nseg * nl, timer, e);
+    return sl_cl_run1d(cl, k, "raster: sl_raster_project_k", nseg * nl, LOCAL, timer, e);
 }
 
 /* dst = the min filter of src along x (dx = 1) or y (dx = 0), half-size m, nl planes. */
@@ -67,7 +51,7 @@ static int z0_min(sl_cl *cl, cl_mem src, cl_mem dst, int w, int h, unsigned nl, 
     err |= clSetKernelArg(k, 5, sizeof m, &m);
     err |= clSetKernelArg(k, 6, sizeof dx, &dx);
     if (sl_cl_check(err, "raster: sl_raster_z0_min arguments", e)) return -1;
-    return run1d(cl, k, "raster: sl_raster_z0_min", (size_t)w * h * nl, timer, e);
+    return sl_cl_run1d(cl, k, "raster: sl_raster_z0_min", (size_t)w * h * nl, LOCAL, timer, e);
 }
 
 int slcl_raster_buf(sl_cl *cl, cl_mem recs, size_t nseg, unsigned nl, int w, int h, unsigned K,
@@ -104,7 +88,7 @@ int slcl_raster_buf(sl_cl *cl, cl_mem recs, size_t nseg, unsigned nl, int w, int
     err |= clSetKernelArg(kz, 4, sizeof h, &h);
     err |= clSetKernelArg(kz, 5, sizeof z0bits, &z0bits);
     if (sl_cl_check(err, "raster: sl_raster_z0 arguments", e)) return -1;
-    if (run1d(cl, kz, "raster: sl_raster_z0", nseg * nl, timer, e)) return -1;
+    if (sl_cl_run1d(cl, kz, "raster: sl_raster_z0", nseg * nl, LOCAL, timer, e)) return -1;
     if (z0_radius > 0) { /* rows into a scratch buffer, columns back into z0bits */
         cl_mem tmp = clCreateBuffer(sl_cl_context(cl), CL_MEM_READ_WRITE,
                                     nl * plane * sizeof(cl_uint), NULL, &err);
@@ -125,7 +109,7 @@ int slcl_raster_buf(sl_cl *cl, cl_mem recs, size_t nseg, unsigned nl, int w, int
     err |= clSetKernelArg(kl, 7, sizeof z0bits, &z0bits);
     err |= clSetKernelArg(kl, 8, sizeof bins, &bins);
     if (sl_cl_check(err, "raster: sl_raster_layers arguments", e)) return -1;
-    return run1d(cl, kl, "raster: sl_raster_layers", nseg * nl, timer, e);
+    return sl_cl_run1d(cl, kl, "raster: sl_raster_layers", nseg * nl, LOCAL, timer, e);
 }
 
 int slcl_raster(sl_cl *cl, const float *recs, size_t nseg, int w, int h, unsigned K, float d,

@@ -8,10 +8,6 @@
 
 #define LOCAL 64u
 
-static size_t round_up(size_t x, size_t m) {
-    return (x + m - 1) / m * m;
-}
-
 int slcl_voxelize(sl_cl *cl, const float *segs, size_t nseg, const int n[3], const float lo[3],
                   float h, float scale, float *out, double *kernel_s, sl_err *e) {
     size_t nvox = (size_t)n[0] * n[1] * n[2];
@@ -67,14 +63,14 @@ int slcl_voxelize(sl_cl *cl, const float *segs, size_t nseg, const int n[3], con
     err |= clSetKernelArg(kf, 3, sizeof inv_scale, &inv_scale);
     err |= clSetKernelArg(kf, 4, sizeof bo, &bo);
     if (sl_cl_check(err, "voxelize: kernel arguments", e)) goto done;
-    size_t local = LOCAL, global = round_up(nseg ? nseg : 1, LOCAL);
+    size_t local = LOCAL, global = sl_cl_round_up(nseg ? nseg : 1, LOCAL);
     if (nseg) {
         if (sl_cl_check(clEnqueueNDRangeKernel(q, ka, 1, NULL, &global, &local, 0, NULL, &ev),
                         "voxelize: sl_voxel_accumulate", e))
             goto done;
         sl_cl_timer_add(&t, ev);
     }
-    global = round_up(nvox, LOCAL);
+    global = sl_cl_round_up(nvox, LOCAL);
     if (sl_cl_check(clEnqueueNDRangeKernel(q, kf, 1, NULL, &global, &local, 0, NULL, &ev),
                     "voxelize: sl_voxel_finalize", e))
         goto done;
