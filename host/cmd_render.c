@@ -13,12 +13,15 @@
 #include "image_write.h"
 #include "scene.h"
 #include "scene_hair.h"
+#include "shadow.h"
 #include "srbf_c.h"
+#include "voxel.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static const char *usage_text =
     "usage: strandlight render SCENE.json [options]\n"
@@ -40,7 +43,11 @@ static const char *usage_text =
     "  --frames A:B        with --orbit: only frames A..B-1 (same pixels as a full run)\n"
     "  --explain           print each frame's plan: every pass run / cached / skipped, why, time\n"
     "  --threads N         C threads (default: every CPU)\n"
-    "  --clamp-nonfinite   replace NaN/Inf pixels of the environment map by 0 (else an error)\n";
+    "  --clamp-nonfinite   replace NaN/Inf pixels of the environment map by 0 (else an error)\n"
+    "\n"
+    "Requests whose buffers exceed the host budget (SL_RENDER_MEM_MB, default half of physical\n"
+    "memory) or one OpenCL allocation of the device are refused before any work, naming the\n"
+    "setting to lower (docs/robustness.md).\n";
 
 enum { AOV_R = 1, AOV_TT = 2, AOV_TRT = 4, AOV_MS = 8, AOV_SHADOW = 16, AOV_LOBES = 32 };
 
@@ -68,6 +75,103 @@ static int parse_aovs(const char *list, int *mask) {
 }
 
 /* path with _NNNN inserted before the extension (or appended). */
+/* Resource limits (docs/robustness.md sec. 4). Before any work, the frame's largest buffers are
+ * estimated from the scene's settings and the request is refused, with the setting to lower,
+ * when they exceed the host budget (SL_RENDER_MEM_MB, default half of physical memory) or, on
+ * OpenCL, when one device buffer exceeds CL_DEVICE_MAX_MEM_ALLOC_SIZE. Per pixel: the frame
+ * buffers (rgba 4 + depth 1 + 4 modes x 3 + shadow 1 + lobes 1 floats = 76 B), the K-buffer
+ * (K fragments + a count), the fragment-rate shade map (K uint32) and ~16 B for the outputs. */
+typedef struct render_need {
+    double host, largest; /* bytes: total, largest single buffer */
+    const char *largest_what, *setting, *host_setting;
+} render_need;
+
+static void render_estimate(const sl_scene *s, int shadow_size_opt, render_need *n) {
+    double npx = (double)s->width * (double)s->height;
+    int K = s->oit_layers > 0 ? s->oit_layers : 8;
+    if (K > SL_KBUFFER_MAX) K = SL_KBUFFER_MAX;
+    double fbuf = 76.0 * npx, kbuf = npx * K * (double)sizeof(sl_kfrag);
+    double view = kbuf + npx * (1.0 + 4.0 * K), outs = 16.0 * npx;
+    int size = shadow_size_opt > 0  ? shadow_size_opt
+               : s->shadow_size > 0 ? s->shadow_size
+                                    : (npx > 1e6 ? 512 : 256);
+    int layers = s->layers > 0 ? s->layers : SL_SHADOW_DEFAULT_LAYERS;
+    int nl = s->lobes > 0 ? s->lobes : 1;
+    /* per lobe: z0 (uint32) + K layers of 64-bit summed-area tables, size^2 texels */
+    double shadow_one = (double)size * size * (4.0 + 8.0 * layers), shadow = nl * shadow_one;
+    double vox =
+        s->voxels > 0 ? (double)s->voxels * s->voxels * s->voxels * 4.0 * SL_VOX_FIELDS : 0.0;
+    n->host = fbuf + view + outs + shadow + vox;
+    n->largest = kbuf, n->largest_what = "K-buffer",
+    n->setting = "image.width/height or "
+                 "quality.oit_layers";
+    if (npx * 16.0 > n->largest)
+        n->largest = npx * 16.0, n->largest_what = "frame buffer",
+        n->setting = "image.width/height";
+    if (shadow_one > n->largest)
+        n->largest = shadow_one, n->largest_what = "deep opacity map",
+        n->setting = "quality.shadow_size or quality.layers";
+    if (vox > n->largest)
+        n->largest = vox, n->largest_what = "voxel grid", n->setting = "quality.voxels";
+    /* the setting to name for the total: the biggest contributor */
+    double parts[4] = {fbuf + outs, view, shadow, vox};
+    const char *names[4] = {"image.width/height", "image.width/height or quality.oit_layers",
+                            "quality.shadow_size, quality.layers or quality.lobes",
+                            "quality.voxels"};
+    int big = 0;
+    for (int i = 1; i < 4; i++)
+        if (parts[i] > parts[big]) big = i;
+    n->host_setting = names[big];
+}
+
+static double render_budget(const char **why) {
+    const char *v = getenv("SL_RENDER_MEM_MB");
+    if (v && *v) {
+        char *end;
+        double mb = strtod(v, &end);
+        if (end != v && mb > 0) {
+            *why = "SL_RENDER_MEM_MB";
+            return mb * 1048576.0;
+        }
+    }
+    long pages = sysconf(_SC_PHYS_PAGES), psz = sysconf(_SC_PAGE_SIZE);
+    *why = "half of physical memory; SL_RENDER_MEM_MB overrides";
+    if (pages <= 0 || psz <= 0) return 8.0 * 1073741824.0; /* unknown: assume 16 GB */
+    return 0.5 * (double)pages * (double)psz;
+}
+
+/* "N.N GiB" above 1 GiB, else "N.N MiB". */
+static const char *bytes_str(double b, char *buf, size_t n) {
+    if (b >= 1073741824.0)
+        snprintf(buf, n, "%.1f GiB", b / 1073741824.0);
+    else
+        snprintf(buf, n, "%.1f MiB", b / 1048576.0);
+    return buf;
+}
+
+static int render_check_limits(const sl_scene *s, int shadow_size_opt, const sl_device *dev,
+                               sl_err *e) {
+    render_need n;
+    render_estimate(s, shadow_size_opt, &n);
+    const char *why;
+    double budget = render_budget(&why);
+    char a[32], b[32];
+    if (n.host > budget)
+        return sl_fail(e, "render: %dx%d needs about %s, over the host budget of %s (%s): lower %s",
+                       s->width, s->height, bytes_str(n.host, a, sizeof a),
+                       bytes_str(budget, b, sizeof b), why, n.host_setting);
+    if (dev && dev->is_opencl && dev->cl) {
+        double maxa = (double)sl_cl_max_alloc(dev->cl);
+        if (maxa > 0 && n.largest > maxa)
+            return sl_fail(e,
+                           "render: %dx%d: the %s needs one %s buffer, over the device's max "
+                           "allocation of %s (%s): lower %s",
+                           s->width, s->height, n.largest_what, bytes_str(n.largest, a, sizeof a),
+                           bytes_str(maxa, b, sizeof b), dev->name, n.setting);
+    }
+    return 0;
+}
+
 static void frame_path(const char *path, int frame, char *out, size_t n) {
     const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
     if (!dot || (slash && dot < slash)) dot = path + strlen(path);
@@ -198,7 +302,9 @@ int cmd_render(int argc, char **argv) {
     if (!aov_given)
         for (int i = 0; i < s->num_aovs; i++)
             aovs |= aov_bit(s->aovs[i]) > 0 ? aov_bit(s->aovs[i]) : 0;
+    if (render_check_limits(s, ro.shadow_size, NULL, &e)) goto done;
     if (sl_device_open(device, &dev, &e)) goto done;
+    if (render_check_limits(s, ro.shadow_size, &dev, &e)) goto done;
     if (sl_scene_load_hair(s, &h, &e)) goto done;
     if (sl_scene_lobes(s, clamp_nonfinite, &lobes, &e)) goto done;
     sl_lobes_transform(&lobes, s->env_rotation_deg, s->env_intensity);

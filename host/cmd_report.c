@@ -1,11 +1,13 @@
 /* cmd_report.c: `strandlight report`. Forms:
  *   report --kernel srbf [options]   error against run time of the SRBF closed forms (issue 5,
  *                                    host/report_srbf.c)
- *   report SCENE.json                (a later issue; a clear usage error until then)
+ *   report SCENE.json [options]      reference against the fast pipeline over a sweep of
+ *                                    settings (issue 10, host/report_scene.c)
  * Arguments are parsed in two steps: the form is decided first (--kernel K, or one positional
  * scene file), then the form's own options, so a scene form can be added beside --kernel. */
 #include "cli.h"
 #include "common.h"
+#include "report_scene.h"
 #include "report_srbf.h"
 
 #include <stdio.h>
@@ -31,7 +33,21 @@ static void help(void) {
         "  --device SPEC      OpenCL device for the opencl rows (default: any); none: C only\n"
         "  --min-time S       time each method for at least S seconds (default 0.3)\n"
         "\n"
-        "report SCENE.json (frame statistics of a scene) comes with a later issue.\n");
+        "\n"
+        "usage: strandlight report SCENE.json [--quick] [--tiny] [-o DIR] [--lights N] [--aa K]\n"
+        "                          [--width W] [--device SPEC|none] [--threads T]\n"
+        "\n"
+        "SCENE.json: renders the brute-force reference once (cached in DIR/../.reference/), then\n"
+        "the fast pipeline over a sweep of settings (lobes, layers K, m, kappa, voxels, multiple\n"
+        "scattering, backend c/opencl) and writes DIR (default report/NAME): results.csv,\n"
+        "report.md (table, Pareto front, speed-ups) and error_vs_time.svg (docs/results.md).\n"
+        "  --quick            small sweep, 80 px wide, reference 128 lights aa 2 (minutes)\n"
+        "  --tiny             48 px wide, reference 8 lights aa 1, smallest sweep (CI)\n"
+        "  -o DIR             report directory (replaced atomically)\n"
+        "  --lights N, --aa K reference settings (default by mode; full: 512 lights, aa 2)\n"
+        "  --width W          image width (height keeps the scene's aspect)\n"
+        "  --device SPEC      OpenCL device for the opencl rows (default: opencl); none: C only\n"
+        "  --threads T        threads (default: every CPU)\n");
 }
 
 static int report_srbf_args(int argc, char **argv) {
@@ -72,6 +88,48 @@ static int report_srbf_args(int argc, char **argv) {
     return 0;
 }
 
+static int report_scene_args(int argc, char **argv, const char *scene) {
+    sl_report_scene_opts o;
+    memset(&o, 0, sizeof o);
+    o.scene = scene;
+    for (int i = 1; i < argc; i++) {
+        int missing = 0;
+        const char *v;
+        long n;
+        if (argv[i] == scene)
+            continue;
+        else if (strcmp(argv[i], "--quick") == 0)
+            o.quick = 1;
+        else if (strcmp(argv[i], "--tiny") == 0)
+            o.tiny = 1;
+        else if (cli_opt(argc, argv, &i, "-o", &v, &missing))
+            o.out_dir = v;
+        else if (cli_opt(argc, argv, &i, "--device", &v, &missing))
+            o.opencl = v;
+        else if (cli_opt(argc, argv, &i, "--lights", &v, &missing)) {
+            if (cli_int("report", "--lights", v, 1, 100000, &n)) return 2;
+            o.lights = (int)n;
+        } else if (cli_opt(argc, argv, &i, "--aa", &v, &missing)) {
+            if (cli_int("report", "--aa", v, 1, 16, &n)) return 2;
+            o.aa = (int)n;
+        } else if (cli_opt(argc, argv, &i, "--width", &v, &missing)) {
+            if (cli_int("report", "--width", v, 4, 16384, &n)) return 2;
+            o.width = (int)n;
+        } else if (cli_opt(argc, argv, &i, "--threads", &v, &missing)) {
+            if (cli_int("report", "--threads", v, 1, 256, &n)) return 2;
+            o.threads = (int)n;
+        } else
+            return cli_usage_error("report", "SCENE.json: unexpected argument '%s'", argv[i]);
+        if (missing) return 2;
+    }
+    sl_err e = {{0}};
+    if (sl_report_scene(&o, &e)) {
+        fprintf(stderr, "strandlight: %s\n", e.msg);
+        return 1;
+    }
+    return 0;
+}
+
 int cmd_report(int argc, char **argv) {
     const char *kernel = NULL, *scene = NULL;
     for (int i = 1; i < argc; i++) {
@@ -85,8 +143,11 @@ int cmd_report(int argc, char **argv) {
             if (kernel) return cli_usage_error("report", "--kernel given twice");
             kernel = v;
         } else if (argv[i][0] == '-' && argv[i][1]) {
-            /* a form's option with a value: skip the value (checked by the form's parser) */
-            if (i + 1 < argc && !strchr(argv[i], '=') && argv[i + 1][0] != '-') i++;
+            /* a form's option with a value: skip the value (checked by the form's parser);
+             * the scene form's flags take none */
+            if (strcmp(argv[i], "--quick") && strcmp(argv[i], "--tiny") && i + 1 < argc &&
+                !strchr(argv[i], '=') && argv[i + 1][0] != '-')
+                i++;
         } else if (!scene)
             scene = argv[i];
         else
@@ -101,9 +162,6 @@ int cmd_report(int argc, char **argv) {
                                    kernel);
         return report_srbf_args(argc, argv);
     }
-    if (scene)
-        return cli_usage_error("report",
-                               "report SCENE.json is not implemented yet (a later issue); "
-                               "use report --kernel srbf");
-    return cli_usage_error("report", "expected --kernel srbf (see strandlight report --help)");
+    if (scene) return report_scene_args(argc, argv, scene);
+    return cli_usage_error("report", "expected --kernel srbf or SCENE.json");
 }

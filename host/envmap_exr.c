@@ -177,6 +177,181 @@ static exr_result_t read_tiles(exr_context_t ctx, const plan *p, int nchannels, 
     return rv;
 }
 
+/* ---- Header walk for the C++ reader ----
+ * Imf::InputFile allocates from header fields before it checks them against the file: an opaque
+ * or string attribute's declared size (new[] of up to 2 GB), a preview image's width x height,
+ * the line/tile offset table from the data window and tile description. OpenEXRCore bounds these
+ * by the file size, but the C++ parser walks the bytes differently (a known fixed-size type is
+ * read at its fixed size whatever size the file declares), so the two can disagree about where
+ * attributes start. So before the C++ library sees a file, the header is walked here exactly as
+ * the C++ reader walks it (OpenEXR 3.1 Header::readFrom), and refused unless every size it will
+ * allocate from fits in the file and its data window is the one Core read. */
+
+static uint32_t rd32(const unsigned char *d) {
+    return (uint32_t)d[0] | (uint32_t)d[1] << 8 | (uint32_t)d[2] << 16 | (uint32_t)d[3] << 24;
+}
+
+/* Bytes C++ reads for a known fixed-size attribute type; 0 when variable-size, -1 if unknown. */
+static int fixed_type_size(const char *t) {
+    static const struct {
+        const char *name;
+        int size;
+    } types[] = {{"box2i", 16},      {"box2f", 16},
+                 {"compression", 1}, {"lineOrder", 1},
+                 {"envmap", 1},      {"deepImageState", 1},
+                 {"float", 4},       {"double", 8},
+                 {"int", 4},         {"v2i", 8},
+                 {"v2f", 8},         {"v2d", 16},
+                 {"v3i", 12},        {"v3f", 12},
+                 {"v3d", 24},        {"m33f", 36},
+                 {"m33d", 72},       {"m44f", 64},
+                 {"m44d", 128},      {"chromaticities", 32},
+                 {"rational", 8},    {"keycode", 28},
+                 {"timecode", 8},    {"tiledesc", 9},
+                 {"string", 0},      {"stringvector", 0},
+                 {"floatvector", 0}, {"chlist", 0},
+                 {"preview", 0}};
+    for (size_t i = 0; i < sizeof types / sizeof types[0]; i++)
+        if (strcmp(t, types[i].name) == 0) return types[i].size;
+    return -1;
+}
+
+/* Length of the NUL-terminated name at d[0..avail) (at most 255 characters, as in C++), or -1. */
+static int name_len(const unsigned char *d, size_t avail) {
+    for (size_t i = 0; i < avail && i < 256; i++)
+        if (!d[i]) return (int)i;
+    return -1;
+}
+
+/* A printable copy of a header name for messages (hostile bytes become '?'). */
+static const char *printable(const char *in, char *buf, size_t n) {
+    size_t i = 0;
+    for (; in[i] && i + 1 < n; i++)
+        buf[i] = in[i] >= 0x20 && in[i] < 0x7f ? in[i] : '?';
+    buf[i] = 0;
+    return buf;
+}
+
+/* Offset table entries a tiled part has, rounding level sizes up (an upper bound for either
+ * rounding mode). Level counts are capped at 32 per axis (dimensions are < 2^31). */
+static double tile_count(int64_t w, int64_t h, int64_t tx, int64_t ty, int mode) {
+    double total = 0;
+    int nlx = 1, nly = 1;
+    if (mode == 1 || mode == 2) {
+        while (nlx < 32 && (1LL << (nlx - 1)) < w)
+            nlx++;
+        while (nly < 32 && (1LL << (nly - 1)) < h)
+            nly++;
+        if (mode == 1) nlx = nly = nlx > nly ? nlx : nly; /* MIPMAP: max(w, h) levels */
+    }
+    for (int lx = 0; lx < nlx; lx++)
+        for (int ly = 0; ly < nly; ly++) {
+            if (mode == 1 && lx != ly) continue; /* MIPMAP: the diagonal only */
+            int64_t lw = (w + (1LL << lx) - 1) >> lx, lh = (h + (1LL << ly) - 1) >> ly;
+            total += (double)((lw + tx - 1) / tx) * (double)((lh + ty - 1) / ty);
+        }
+    return total;
+}
+
+/* Walks the header as Imf::InputFile will; 0 when every size it allocates from fits the file
+ * and its data window equals core_dw, else -1 with a message naming the problem. */
+static int cxx_header_ok(const unsigned char *d, size_t n, const exr_attr_box2i_t *core_dw,
+                         const char *name, sl_err *e) {
+    if (n < 8) return sl_fail(e, "%s: OpenEXR: truncated header", name);
+    uint32_t flags = rd32(d + 4) & ~0xffu;
+    if (flags & 0x1800u)
+        return sl_fail(e, "%s: OpenEXR: multi-part or deep DWA files are not supported", name);
+    size_t p = 8;
+    int have_dw = 0, have_tiles = 0, tmode = 0, lines = 1;
+    int32_t dwv[4] = {0, 0, 0, 0};
+    uint32_t tx = 0, ty = 0;
+    for (;;) {
+        int ln = name_len(d + p, n - p);
+        if (ln < 0) return sl_fail(e, "%s: OpenEXR: unterminated attribute name in header", name);
+        const char *an = (const char *)d + p;
+        p += (size_t)ln + 1;
+        if (ln == 0) break;
+        char pn[48], pt[40];
+        printable(an, pn, sizeof pn);
+        int lt = name_len(d + p, n - p);
+        if (lt < 0 || n - p - (size_t)lt - 1 < 4)
+            return sl_fail(e, "%s: OpenEXR: attribute %s: truncated type or size", name, pn);
+        const char *type = (const char *)d + p;
+        printable(type, pt, sizeof pt);
+        p += (size_t)lt + 1;
+        int32_t size = (int32_t)rd32(d + p);
+        p += 4;
+        size_t left = n - p;
+        if (size < 0 || (size_t)size > left)
+            return sl_fail(e,
+                           "%s: OpenEXR: attribute %s declares %ld bytes but only %zu remain "
+                           "in the file",
+                           name, pn, (long)size, left);
+        const unsigned char *v = d + p;
+        int fixed = fixed_type_size(type);
+        if (fixed > 0 && size != fixed)
+            return sl_fail(e, "%s: OpenEXR: attribute %s of type %s has size %ld, not %d", name, pn,
+                           pt, (long)size, fixed);
+        if (strcmp(type, "preview") == 0) {
+            /* C++ allocates width x height RGBA8 pixels before reading them. */
+            if (size < 8 || (double)rd32(v) * (double)rd32(v + 4) * 4.0 + 8.0 != (double)size)
+                return sl_fail(e, "%s: OpenEXR: preview %s does not match its size", name, pn);
+        } else if (strcmp(type, "chlist") == 0) {
+            /* C++ reads entries up to the empty name, not by size: they must end at size. */
+            size_t q = 0;
+            for (;;) {
+                int cl = name_len(v + q, (size_t)size - q);
+                if (cl < 0) return sl_fail(e, "%s: OpenEXR: bad channel list", name);
+                q += (size_t)cl + 1;
+                if (cl == 0) break;
+                if ((size_t)size - q < 16) return sl_fail(e, "%s: OpenEXR: bad channel list", name);
+                q += 16;
+            }
+            if (q != (size_t)size) return sl_fail(e, "%s: OpenEXR: bad channel list", name);
+        } else if (strcmp(type, "idmanifest") == 0) {
+            return sl_fail(e, "%s: OpenEXR: attribute type %s is not supported", name, pt);
+        }
+        if (strcmp(an, "dataWindow") == 0 && strcmp(type, "box2i") == 0) {
+            for (int k = 0; k < 4; k++)
+                dwv[k] = (int32_t)rd32(v + 4 * k);
+            have_dw = 1;
+        } else if (strcmp(an, "tiles") == 0 && strcmp(type, "tiledesc") == 0) {
+            tx = rd32(v);
+            ty = rd32(v + 4);
+            tmode = v[8] & 0xf;
+            have_tiles = 1;
+        } else if (strcmp(an, "compression") == 0 && strcmp(type, "compression") == 0) {
+            /* Lines per chunk as C++ sees them: NONE RLE ZIPS 1, ZIP PXR24 16, DWAB 256,
+             * PIZ B44 B44A DWAA 32 (OpenEXR file layout). */
+            static const int lpb[10] = {1, 1, 1, 16, 32, 16, 32, 32, 32, 256};
+            lines = v[0] < 10 ? lpb[v[0]] : 1;
+        }
+        p += (size_t)size;
+    }
+    if (!have_dw || dwv[0] != core_dw->min.x || dwv[1] != core_dw->min.y ||
+        dwv[2] != core_dw->max.x || dwv[3] != core_dw->max.y)
+        return sl_fail(e, "%s: OpenEXR: the C++ reader would see a different data window", name);
+    int64_t w = (int64_t)dwv[2] - dwv[0] + 1, h = (int64_t)dwv[3] - dwv[1] + 1;
+    size_t left = n - p;
+    double entries;
+    if (flags & 0x200u) {
+        if (!have_tiles || tx < 1 || ty < 1 || tx > SL_ENVMAP_MAX_DIM || ty > SL_ENVMAP_MAX_DIM ||
+            tmode > 2)
+            return sl_fail(e, "%s: OpenEXR: bad tile description", name);
+        /* A tile buffer larger than the image (C++ allocates one per thread) is refused. */
+        if ((double)tx * ty > (double)w * h && (double)tx * ty > 65536.0)
+            return sl_fail(e, "%s: OpenEXR: tiles of %u x %u for a %lld x %lld image", name, tx, ty,
+                           (long long)w, (long long)h);
+        entries = tile_count(w, h, tx, ty, tmode);
+    } else {
+        entries = (double)((h + lines - 1) / lines);
+    }
+    if (entries * 8.0 > (double)left)
+        return sl_fail(e, "%s: OpenEXR: offset table of %.0f chunks does not fit in the file", name,
+                       entries);
+    return 0;
+}
+
 /* Picks the planes to decode from the channel list; fills the names/format fields of out. */
 static int make_plan(const exr_attr_chlist_t *chl, const char *name, plan *p, sl_envmap *out,
                      const char **type_word, const char **layout, sl_err *e) {
@@ -292,6 +467,7 @@ int sl_envmap_decode_exr(const unsigned char *data, size_t n, const char *name, 
     }
     if (use_cxx) {
         char msg[512];
+        if (cxx_header_ok(data, n, &dw, name, e)) goto done;
         if (sl_exrcxx_read_planes(data, n, (int)w, (int)h, p.nplanes, p.names, p.planes, msg,
                                   sizeof msg)) {
             sl_fail(e, "%s: OpenEXR (C++): %s", name, msg);

@@ -103,7 +103,7 @@ expect_usage_report() {
     if ! printf '%s' "$out" | grep -qF -- "$want"; then fail "$name" "stderr '$out' lacks '$want'"; return; fi
     pass "$name"
 }
-expect_usage_report srbf_report_scene_later "not implemented yet" scene.json
+expect_error srbf_report_scene_missing "scene.json: No such file" "$SL" report scene.json
 expect_usage_report srbf_report_kernel_unknown "unknown kernel 'foo'" --kernel foo
 expect_usage_report srbf_report_no_form "expected --kernel srbf"
 expect_usage_report srbf_report_bad_n "--n" --kernel srbf --n 0
