@@ -1,6 +1,7 @@
 /* quad.h: adaptive Gauss-Kronrod (G7/K15) quadrature in double with error control, for the
  * reference backend (Marschner TRT convolution, d'Eon N_p, furnace integrals, SRBF exact
- * integrals). Pure functions, no global state, no allocation (fixed-size interval stack). */
+ * integrals). Pure functions, no global state; the scalar forms do not allocate (fixed-size
+ * interval stack), the vector form does. */
 #ifndef SL_QUAD_H
 #define SL_QUAD_H
 
@@ -26,5 +27,15 @@ double slq_integrate_pts(slq_fn f, void *ctx, double a, double b, const double *
 
 /* One fixed 15-point Gauss-Kronrod rule on [a, b] (no adaptivity); *err_est = |K15 - G7|. */
 double slq_gk15(slq_fn f, void *ctx, double a, double b, double *err_est);
+
+/* A vector integrand: writes n values at x into out. */
+typedef void (*slq_vfn)(double x, void *ctx, double *out);
+
+/* Integrates the n-vector f over [a, b] (a < b) split at pts (any order; outside points ignored)
+ * by globally adaptive G7/K15 on one shared interval tree, until every component k has summed
+ * error <= max(rel |I_k|, abs_tol[k]) or max_iv intervals exist; bisects the interval with the
+ * largest error relative to its component's tolerance. Results in res[0..n-1] (allocates). */
+void slq_integrate_vec(slq_vfn f, void *ctx, int n, double a, double b, const double *pts,
+                       size_t npts, double rel, const double *abs_tol, int max_iv, double *res);
 
 #endif

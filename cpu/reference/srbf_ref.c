@@ -22,6 +22,8 @@
  * Nothing here uses an approximation of the model: only quadrature error, which is controlled. */
 #include "srbf_ref.h"
 
+#include "quad.h"
+
 #include "deon_ref.h"
 #include "fiber_common_d.h"
 #include "marschner_ref.h"
@@ -44,168 +46,11 @@ double slref_srbf_error(double x, double exact, double lambda) {
     return fabs(x - exact) / fmax(exact, floor_);
 }
 
-/* ---- vector adaptive Gauss-Kronrod (G7/K15, QUADPACK error estimate per component) ---- */
-
-typedef void (*vq_fn)(double x, void *ctx, double *out);
-
-static const double xgk[8] = {
-    0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
-    0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
-    0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
-    0.207784955007898467600689403773245, 0.000000000000000000000000000000000};
-static const double wgk[8] = {
-    0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
-    0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
-    0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
-    0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
-static const double wg[4] = {
-    0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
-    0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
-
-/* One interval: [a, b], and per component its value and error estimate. */
-typedef struct vq_iv {
-    double a, b;
-    double *val, *err;
-} vq_iv;
-
-/* K15 on [a, b] for n components; fv is scratch of 15 n doubles. */
-static void vq_gk15(vq_fn f, void *ctx, int n, double a, double b, double *fv, double *val,
-                    double *err) {
-    double c = 0.5 * (a + b), hl = 0.5 * (b - a), ahl = fabs(hl);
-    f(c, ctx, fv);
-    for (int j = 0; j < 7; j++) {
-        f(c - hl * xgk[j], ctx, fv + (size_t)(1 + 2 * j) * (size_t)n);
-        f(c + hl * xgk[j], ctx, fv + (size_t)(2 + 2 * j) * (size_t)n);
-    }
-    for (int k = 0; k < n; k++) {
-        double fc = isfinite(fv[k]) ? fv[k] : 0.0;
-        double rk = fc * wgk[7], rg = fc * wg[3], rabs = fabs(rk);
-        double f1[7], f2[7];
-        for (int j = 0; j < 7; j++) {
-            f1[j] = fv[(size_t)(1 + 2 * j) * (size_t)n + (size_t)k];
-            f2[j] = fv[(size_t)(2 + 2 * j) * (size_t)n + (size_t)k];
-            if (!isfinite(f1[j])) f1[j] = 0.0;
-            if (!isfinite(f2[j])) f2[j] = 0.0;
-            rk += wgk[j] * (f1[j] + f2[j]);
-            rabs += wgk[j] * (fabs(f1[j]) + fabs(f2[j]));
-            if (j % 2 == 1) rg += wg[j / 2] * (f1[j] + f2[j]);
-        }
-        double mean = 0.5 * rk, asc = wgk[7] * fabs(fc - mean);
-        for (int j = 0; j < 7; j++)
-            asc += wgk[j] * (fabs(f1[j] - mean) + fabs(f2[j] - mean));
-        double e = fabs((rk - rg) * hl);
-        asc *= ahl;
-        rabs *= ahl;
-        if (asc != 0.0 && e != 0.0) {
-            double r = pow(200.0 * e / asc, 1.5);
-            e = asc * (r < 1.0 ? r : 1.0);
-        }
-        if (rabs > DBL_MIN / (50.0 * DBL_EPSILON)) e = fmax(e, 50.0 * DBL_EPSILON * rabs);
-        val[k] = rk * hl;
-        err[k] = e;
-    }
-}
-
-static int cmp_dbl(const void *x, const void *y) {
-    double a = *(const double *)x, b = *(const double *)y;
-    return (a > b) - (a < b);
-}
-
-/* Integrates the n-vector f over [a, b] split at pts (any order; outside points ignored), until
- * every component k has summed error <= max(rel |I_k|, abs_tol[k]) or max_iv intervals exist.
- * Bisects the interval with the largest error relative to its component's tolerance. */
-static void vq_integrate(vq_fn f, void *ctx, int n, double a, double b, const double *pts,
-                         size_t npts, double rel, const double *abs_tol, int max_iv, double *res) {
-    for (int k = 0; k < n; k++)
-        res[k] = 0.0;
-    if (!(b > a)) return;
-    double *cut = malloc((npts + 2) * sizeof *cut);
-    size_t nc = 0;
-    cut[nc++] = a;
-    for (size_t i = 0; i < npts; i++)
-        if (isfinite(pts[i]) && pts[i] > a && pts[i] < b) cut[nc++] = pts[i];
-    qsort(cut + 1, nc - 1, sizeof *cut, cmp_dbl);
-    size_t m = 1;
-    for (size_t i = 1; i < nc; i++)
-        if (cut[i] > cut[m - 1] + 1e-15 * (b - a)) cut[m++] = cut[i];
-    nc = m;
-    cut[nc++] = b;
-    int cap = max_iv > (int)nc ? max_iv : (int)nc;
-    vq_iv *iv = malloc((size_t)cap * sizeof *iv);
-    double *store = malloc((size_t)cap * 2 * (size_t)n * sizeof *store);
-    double *fv = malloc(15 * (size_t)n * sizeof *fv);
-    double *tot = calloc((size_t)n, sizeof *tot), *terr = calloc((size_t)n, sizeof *terr);
-    int niv = 0;
-    for (size_t i = 0; i + 1 < nc; i++) {
-        vq_iv *v = &iv[niv];
-        v->a = cut[i];
-        v->b = cut[i + 1];
-        v->val = store + (size_t)niv * 2 * (size_t)n;
-        v->err = v->val + n;
-        vq_gk15(f, ctx, n, v->a, v->b, fv, v->val, v->err);
-        for (int k = 0; k < n; k++) {
-            tot[k] += v->val[k];
-            terr[k] += v->err[k];
-        }
-        niv++;
-    }
-    while (niv + 1 < cap) {
-        /* Done when every component meets its tolerance. */
-        int done = 1;
-        for (int k = 0; k < n && done; k++)
-            if (terr[k] > fmax(rel * fabs(tot[k]), abs_tol[k])) done = 0;
-        if (done) break;
-        int best = -1;
-        double bs = 0.0;
-        for (int i = 0; i < niv; i++) {
-            double s = 0.0;
-            for (int k = 0; k < n; k++) {
-                double t = fmax(rel * fabs(tot[k]), abs_tol[k]);
-                s = fmax(s, iv[i].err[k] / t);
-            }
-            if (s > bs && 0.5 * (iv[i].a + iv[i].b) > iv[i].a &&
-                0.5 * (iv[i].a + iv[i].b) < iv[i].b) {
-                bs = s;
-                best = i;
-            }
-        }
-        if (best < 0) break;
-        vq_iv *p = &iv[best], *q = &iv[niv];
-        double mid = 0.5 * (p->a + p->b);
-        q->val = store + (size_t)niv * 2 * (size_t)n;
-        q->err = q->val + n;
-        q->a = mid;
-        q->b = p->b;
-        for (int k = 0; k < n; k++) {
-            tot[k] -= p->val[k];
-            terr[k] -= p->err[k];
-        }
-        p->b = mid;
-        vq_gk15(f, ctx, n, p->a, p->b, fv, p->val, p->err);
-        vq_gk15(f, ctx, n, q->a, q->b, fv, q->val, q->err);
-        for (int k = 0; k < n; k++) {
-            tot[k] += p->val[k] + q->val[k];
-            terr[k] += p->err[k] + q->err[k];
-        }
-        niv++;
-    }
-    /* Re-sum from the leaves (no drift from the running updates). */
-    for (int i = 0; i < niv; i++)
-        for (int k = 0; k < n; k++)
-            res[k] += iv[i].val[k];
-    free(cut);
-    free(iv);
-    free(store);
-    free(fv);
-    free(tot);
-    free(terr);
-}
-
 /* Scalar convenience wrapper. */
-static double sq_integrate(vq_fn f, void *ctx, double a, double b, const double *pts, size_t npts,
+static double sq_integrate(slq_vfn f, void *ctx, double a, double b, const double *pts, size_t npts,
                            double rel, double abs_tol, int max_iv) {
     double r;
-    vq_integrate(f, ctx, 1, a, b, pts, npts, rel, &abs_tol, max_iv, &r);
+    slq_integrate_vec(f, ctx, 1, a, b, pts, npts, rel, &abs_tol, max_iv, &r);
     return r;
 }
 
@@ -515,7 +360,7 @@ void slref_srbf(const sl_material *m, int ch, double theta_o, double phi_o, doub
         free(tol);
         return;
     }
-    vq_integrate(outer, &c, nm, -HALF_PI, HALF_PI, pts, n, OUTER_REL, tol, 600, out);
+    slq_integrate_vec(outer, &c, nm, -HALF_PI, HALF_PI, pts, n, OUTER_REL, tol, 600, out);
     free(tol);
     double total = 0.0;
     for (int k = 0; k < nm; k++) {
