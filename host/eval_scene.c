@@ -3,14 +3,26 @@
 
 #include "env_lighting.h"
 
+#include <string.h>
+
 int sl_eval_scene_lobes(const sl_scene *s, size_t n, const double *rows, const long *line_no,
                         sl_lobes *lobes, sl_err *e) {
     if (sl_scene_lobes(s, 0, lobes, e)) return -1;
     sl_lobes_transform(lobes, s->env_rotation_deg, 1.0);
     for (size_t i = 0; i < n; i++)
         if (rows[4 * i + 3] >= lobes->count)
-            return sl_fail(e, "<stdin>:%ld: lobe: %.0f is out of range (the scene has %d lobes, 0..%d)",
-                           line_no ? line_no[i] : (long)i + 2, rows[4 * i + 3], lobes->count,
-                           lobes->count - 1);
+            return sl_fail(
+                e, "<stdin>:%ld: lobe: %.0f is out of range (the scene has %d lobes, 0..%d)",
+                line_no ? line_no[i] : (long)i + 2, rows[4 * i + 3], lobes->count,
+                lobes->count - 1);
+    return 0;
+}
+
+int sl_eval_scene_device(sl_eval_backend b, sl_cl *cl, sl_device *dev, sl_err *e) {
+    memset(dev, 0, sizeof *dev);
+    if (b != SL_EVAL_OPENCL) return 0;
+    if (!cl) return sl_fail(e, "eval: --backend opencl needs a device");
+    dev->is_opencl = 1;
+    dev->cl = cl;
     return 0;
 }

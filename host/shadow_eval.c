@@ -43,15 +43,7 @@ int sl_shadow_eval_transmittance(const char *scene_path, sl_eval_backend b, sl_c
         goto done;
     }
     sl_device dev;
-    memset(&dev, 0, sizeof dev);
-    if (b == SL_EVAL_OPENCL) {
-        if (!cl) {
-            sl_fail(e, "eval: --backend opencl needs a device");
-            goto done;
-        }
-        dev.is_opencl = 1;
-        dev.cl = cl; /* explicit device: never falls back */
-    }
+    if (sl_eval_scene_device(b, cl, &dev, e)) goto done;
     sl_shadow_opts o;
     sl_shadow_opts_default(&o);
     if (s->shadow_size > 0) o.size = s->shadow_size;

@@ -58,15 +58,7 @@ int sl_volume_eval_forward(const char *scene_path, sl_eval_backend b, sl_cl *cl,
         goto done;
     }
     sl_device dev;
-    memset(&dev, 0, sizeof dev);
-    if (b == SL_EVAL_OPENCL) {
-        if (!cl) {
-            sl_fail(e, "eval: --backend opencl needs a device");
-            goto done;
-        }
-        dev.is_opencl = 1;
-        dev.cl = cl; /* explicit device: never falls back */
-    }
+    if (sl_eval_scene_device(b, cl, &dev, e)) goto done;
     sl_dual_tables dt;
     if (sl_dual_tables_build(m, &dt, e)) goto done;
     /* March only the lobes the rows ask for. */
