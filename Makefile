@@ -12,9 +12,9 @@ CPPFLAGS += -Ihost -Ikernels -Icpu -Icpu/reference -I/usr/include/OpenEXR \
             -DSL_KERNEL_DIR='"$(abspath kernels)"'
 CFLAGS += -std=c11 $(OPT) -g -Wall -Wextra $(WERROR) -MMD -MP $(SAN)
 CXXFLAGS += -std=c++17 $(OPT) -g -Wall -Wextra $(WERROR) -MMD -MP $(SAN) \
-            -I/usr/include/Imath -I/usr/include/OpenEXR -Ihost
+            -I/usr/include/Imath -I/usr/include/OpenEXR -I/usr/include/imgui -Ihost -Ikernels
 LDLIBS += -lOpenCL -lOpenEXR-3_1 -lOpenEXRCore-3_1 -lIex-3_1 -lImath-3_1 -lcjson -lstb -lembree3 \
-          -lstdc++ -lpthread -lm
+          -limgui -lglfw -lGL -lstdc++ -lpthread -lm
 LDFLAGS += $(SAN)
 
 # Every C file in host/ (but main.c), cpu/ and cpu/reference/ goes into one library that the
@@ -25,7 +25,7 @@ TEST_C  := $(wildcard test/*.c)
 LIB_OBJ := $(LIB_C:%.c=$(BUILD)/%.o) $(LIB_CXX:%.cpp=$(BUILD)/%.o)
 TEST_OBJ := $(TEST_C:%.c=$(BUILD)/%.o)
 
-.PHONY: all deps run test asan bench fuzz format clean
+.PHONY: all deps run test test-farm asan bench fuzz format clean
 all: $(BUILD)/strandlight $(BUILD)/unit_tests
 
 $(BUILD)/libstrandlight.a: $(LIB_OBJ)
@@ -61,6 +61,10 @@ asan:
 	$(MAKE) BUILD=build-asan OPT=-O1 SAN="-fsanitize=address,undefined -fno-omit-frame-pointer" all
 	ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 LSAN_OPTIONS=suppressions=$(abspath test/lsan.supp) \
 	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 bash test/run.sh build-asan
+
+# A real single-node Slurm on localhost renders an orbit as an array job (docs/farm.md).
+test-farm: all
+	bash test/farm/run.sh $(BUILD)
 
 bench: all
 	bash test/bench.sh $(BUILD)

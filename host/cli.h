@@ -13,6 +13,7 @@ int cmd_fit(int argc, char **argv);
 int cmd_sample(int argc, char **argv);
 int cmd_report(int argc, char **argv);
 int cmd_reference(int argc, char **argv);
+int cmd_view(int argc, char **argv);
 
 /* True when argv[*i] is `name` (then *value = argv[*i+1], *i advanced) or `name=value`.
  * A missing value prints a usage error and sets *missing. */

@@ -70,7 +70,25 @@ void sl_renderer_free(sl_renderer *r) {
     if (r->have_tables) sl_srbf_tables_free(&r->tables);
     free(r->kbuf);
     free(r->kcount);
+    free(r->strand_sigma_a);
     memset(r, 0, sizeof *r);
+}
+
+int sl_renderer_set_strand_sigma_a(sl_renderer *r, const float *sigma_a, uint32_t n, sl_err *e) {
+    free(r->strand_sigma_a);
+    r->strand_sigma_a = NULL;
+    r->strand_sigma_a_n = 0;
+    r->strand_key = 0;
+    if (!sigma_a) return 0;
+    for (size_t i = 0; i < 3 * (size_t)n; i++)
+        if (!(sigma_a[i] >= 0.0f) || !isfinite(sigma_a[i]))
+            return sl_fail(e, "per-strand sigma_a: strand %zu: expected a finite value >= 0",
+                           i / 3);
+    r->strand_sigma_a = sl_malloc(3 * (size_t)(n ? n : 1) * sizeof *r->strand_sigma_a);
+    memcpy(r->strand_sigma_a, sigma_a, 3 * (size_t)n * sizeof *sigma_a);
+    r->strand_sigma_a_n = n;
+    r->strand_key = sl_hash64(sigma_a, 3 * (size_t)n * sizeof *sigma_a, 0x5354524e) | 1;
+    return 0;
 }
 
 int sl_frame_threads(const sl_renderer *r) {

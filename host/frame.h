@@ -105,6 +105,13 @@ typedef struct sl_renderer {
     size_t frags, merges;
     int kbuf_on_device;  /* the last K-buffer fill ran on OpenCL */
     float seg_px_median; /* median projected segment length (pixels) of the last view pass */
+    /* per-strand absorption overrides (painted, or from the file's colours; docs/frame.md):
+     * 3 floats (sigma_a r, g, b) per strand, or NULL: every strand uses the material's sigma_a.
+     * Set with sl_renderer_set_strand_sigma_a; the key is part of the shading pass's inputs
+     * only (editing sigma_a re-runs shading, never the view or light passes). */
+    float *strand_sigma_a;
+    uint32_t strand_sigma_a_n;
+    uint64_t strand_key;
     /* last frame's plan */
     int npass;
     sl_pass_rec pass[SL_FRAME_MAX_PASSES];
@@ -119,6 +126,9 @@ void sl_renderer_free(sl_renderer *r);
  * (allocated here; free with sl_fbuf_free). Returns 0 or -1 with e set. */
 int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const sl_lobes *lobes,
                       const sl_camera *cam, sl_fbuf *out, sl_err *e);
+/* Per-strand sigma_a overrides: n strands x 3 floats (copied), or sigma_a == NULL to clear.
+ * n must equal the hair's strand count at the next frame (checked there). Returns 0 or -1. */
+int sl_renderer_set_strand_sigma_a(sl_renderer *r, const float *sigma_a, uint32_t n, sl_err *e);
 /* The last frame's plan, one line per pass: name, run/cached/skipped, why, seconds. */
 void sl_renderer_explain(const sl_renderer *r, FILE *f);
 /* The record of pass `name` in the last plan, NULL if it has none. */

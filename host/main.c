@@ -20,6 +20,7 @@ static const command commands[] = {
     {"fit", cmd_fit, "fit SRBF lobes to an environment map"},
     {"sample", cmd_sample, "directional lights sampled from an environment map"},
     {"reference", cmd_reference, "brute-force reference render (ray-traced fibers)"},
+    {"view", cmd_view, "interactive viewer: live editing and painting (GLFW + OpenGL)"},
     {"report", cmd_report, "error against run time (kernels, scenes)"},
 };
 #define NUM_COMMANDS (sizeof commands / sizeof commands[0])

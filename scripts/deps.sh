@@ -8,7 +8,8 @@ PKGS=(
   ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
   libopenexr-dev
   libcjson-dev libstb-dev libembree-dev
-  libglfw3-dev libgl-dev libegl-dev libgl1-mesa-dri xvfb xauth
+  libglfw3-dev libgl-dev libegl-dev libgl1-mesa-dri xvfb xauth libimgui-dev
+  slurm-wlm munge
   python3 python3-numpy python3-matplotlib bc
 )
 SUDO=""
