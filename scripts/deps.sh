@@ -9,7 +9,7 @@ PKGS=(
   libopenexr-dev
   libcjson-dev libstb-dev libembree-dev
   libglfw3-dev libgl-dev libegl-dev libgl1-mesa-dri xvfb xauth libimgui-dev
-  slurm-wlm munge
+  slurm-wlm munge parallel
   python3 python3-numpy python3-matplotlib bc
 )
 SUDO=""
