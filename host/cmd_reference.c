@@ -1,6 +1,6 @@
 /* cmd_reference.c: `strandlight reference SCENE.json -o REF.exr --lights N`: the brute-force
  * reference render (host/reference.h, docs/reference.md), cached by content and settings, with
- * its own convergence (N vs 2N lights) on stderr and in REF.exr.json. */
+ * its own convergence (N vs 2N lights with another jitter seed) on stderr and in REF.exr.json. */
 #include "cli.h"
 #include "reference.h"
 #include "scene.h"
@@ -24,6 +24,8 @@ static const char *usage_text =
     "  --lights N          directional lights (default 256)\n"
     "  --aa K              K x K jittered camera rays per pixel (default 2)\n"
     "  --seed S            jitter seed (default 1)\n"
+    "  --no-light-split    every camera ray shades every light (default: the K x K rays of a\n"
+    "                      pixel share the N lights, one subset each, so aa costs little)\n"
     "  --threads T         worker threads (default: all CPUs; the image does not depend on it)\n"
     "  --ms on|off|auto    multiple scattering (default: the scene's quality.multiple_scattering;\n"
     "                      auto = on for model marschner)\n"
@@ -79,6 +81,8 @@ int cmd_reference(int argc, char **argv) {
             force = 1;
         } else if (strcmp(argv[i], "--clamp-nonfinite") == 0) {
             set.clamp_nonfinite = 1;
+        } else if (strcmp(argv[i], "--no-light-split") == 0) {
+            set.light_split = 0;
         } else if (argv[i][0] == '-') {
             return cli_usage_error("reference", "unknown option %s", argv[i]);
         } else if (!scene_path) {
@@ -105,9 +109,10 @@ int cmd_reference(int argc, char **argv) {
             r.cached ? "cached " : "", out, r.lights, set.aa, r.ms ? "with" : "without", r.time_s,
             r.cached ? " when rendered" : "");
     if (r.has_convergence)
-        sl_note("reference: convergence: %d vs %d lights: rel RMSE %.4g, p99 rel err %.4g "
-                "(2N render %.2f s)",
-                set.lights, 2 * set.lights, r.conv_rel_rmse, r.conv_p99, r.time_2n_s);
+        sl_note("reference: convergence: %d vs %d lights: rel RMSE %.4g, p99 rel err %.4g, "
+                "4x4 blocks %.4g (2N render with seed %llu: %.2f s)",
+                set.lights, 2 * set.lights, r.conv_rel_rmse, r.conv_p99, r.conv_rel_rmse_4x4,
+                (unsigned long long)(set.seed + 1), r.time_2n_s);
     rc = 0;
 done:
     if (rc) fprintf(stderr, "strandlight: %s\n", e.msg);

@@ -13,6 +13,7 @@
 #include "image_write.h"
 #include "scene.h"
 #include "scene_hair.h"
+#include "scene_strands.h"
 #include "shadow.h"
 #include "srbf_c.h"
 #include "voxel.h"
@@ -74,56 +75,11 @@ static int parse_aovs(const char *list, int *mask) {
     return 0;
 }
 
-/* path with _NNNN inserted before the extension (or appended). */
 /* Resource limits (docs/robustness.md sec. 4). Before any work, the frame's largest buffers are
- * estimated from the scene's settings and the request is refused, with the setting to lower,
- * when they exceed the host budget (SL_RENDER_MEM_MB, default half of physical memory) or, on
- * OpenCL, when one device buffer exceeds CL_DEVICE_MAX_MEM_ALLOC_SIZE. Per pixel: the frame
- * buffers (rgba 4 + depth 1 + 4 modes x 3 + shadow 1 + lobes 1 floats = 76 B), the K-buffer
- * (K fragments + a count), the fragment-rate shade map (K uint32) and ~16 B for the outputs. */
-typedef struct render_need {
-    double host, largest; /* bytes: total, largest single buffer */
-    const char *largest_what, *setting, *host_setting;
-} render_need;
-
-static void render_estimate(const sl_scene *s, int shadow_size_opt, render_need *n) {
-    double npx = (double)s->width * (double)s->height;
-    int K = s->oit_layers > 0 ? s->oit_layers : 8;
-    if (K > SL_KBUFFER_MAX) K = SL_KBUFFER_MAX;
-    double fbuf = 76.0 * npx, kbuf = npx * K * (double)sizeof(sl_kfrag);
-    double view = kbuf + npx * (1.0 + 4.0 * K), outs = 16.0 * npx;
-    int size = shadow_size_opt > 0  ? shadow_size_opt
-               : s->shadow_size > 0 ? s->shadow_size
-                                    : (npx > 1e6 ? 512 : 256);
-    int layers = s->layers > 0 ? s->layers : SL_SHADOW_DEFAULT_LAYERS;
-    int nl = s->lobes > 0 ? s->lobes : 1;
-    /* per lobe: z0 (uint32) + K layers of 64-bit summed-area tables, size^2 texels */
-    double shadow_one = (double)size * size * (4.0 + 8.0 * layers), shadow = nl * shadow_one;
-    double vox =
-        s->voxels > 0 ? (double)s->voxels * s->voxels * s->voxels * 4.0 * SL_VOX_FIELDS : 0.0;
-    n->host = fbuf + view + outs + shadow + vox;
-    n->largest = kbuf, n->largest_what = "K-buffer",
-    n->setting = "image.width/height or "
-                 "quality.oit_layers";
-    if (npx * 16.0 > n->largest)
-        n->largest = npx * 16.0, n->largest_what = "frame buffer",
-        n->setting = "image.width/height";
-    if (shadow_one > n->largest)
-        n->largest = shadow_one, n->largest_what = "deep opacity map",
-        n->setting = "quality.shadow_size or quality.layers";
-    if (vox > n->largest)
-        n->largest = vox, n->largest_what = "voxel grid", n->setting = "quality.voxels";
-    /* the setting to name for the total: the biggest contributor */
-    double parts[4] = {fbuf + outs, view, shadow, vox};
-    const char *names[4] = {"image.width/height", "image.width/height or quality.oit_layers",
-                            "quality.shadow_size, quality.layers or quality.lobes",
-                            "quality.voxels"};
-    int big = 0;
-    for (int i = 1; i < 4; i++)
-        if (parts[i] > parts[big]) big = i;
-    n->host_setting = names[big];
-}
-
+ * estimated from the scene's settings (sl_frame_estimate, host/frame.h: the same size rules the
+ * passes allocate with) and the request is refused, with the setting to lower, when they exceed
+ * the host budget (SL_RENDER_MEM_MB, default half of physical memory) or, on OpenCL, when one
+ * device buffer exceeds CL_DEVICE_MAX_MEM_ALLOC_SIZE. */
 static double render_budget(const char **why) {
     const char *v = getenv("SL_RENDER_MEM_MB");
     if (v && *v) {
@@ -151,8 +107,8 @@ static const char *bytes_str(double b, char *buf, size_t n) {
 
 static int render_check_limits(const sl_scene *s, int shadow_size_opt, const sl_device *dev,
                                sl_err *e) {
-    render_need n;
-    render_estimate(s, shadow_size_opt, &n);
+    sl_frame_need n;
+    sl_frame_estimate(s, shadow_size_opt, &n);
     const char *why;
     double budget = render_budget(&why);
     char a[32], b[32];
@@ -172,6 +128,7 @@ static int render_check_limits(const sl_scene *s, int shadow_size_opt, const sl_
     return 0;
 }
 
+/* path with _NNNN inserted before the extension (or appended). */
 static void frame_path(const char *path, int frame, char *out, size_t n) {
     const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
     if (!dot || (slash && dot < slash)) dot = path + strlen(path);
@@ -320,6 +277,13 @@ int cmd_render(int argc, char **argv) {
     const char *png_path = png ? png : s->out_png;
     sl_renderer_init(&r, &dev, &ro);
     have_r = 1;
+    { /* material.strand_sigma_a: per-strand absorption (docs/formats.md) */
+        float *ssa = NULL;
+        if (sl_scene_strand_sigma_a(s, &h, &ssa, &e)) goto done;
+        int src = ssa ? sl_renderer_set_strand_sigma_a(&r, ssa, h.num_strands, &e) : 0;
+        free(ssa);
+        if (src) goto done;
+    }
     for (long f = fa; f < fb; f++) {
         sl_camera cam = cam0;
         char exr_f[4200], png_f[4200] = "";

@@ -3,13 +3,18 @@
  *   light   hair geometry (points, radii, strands) + used lobes (dir, lambda) + shadow quality
  *   dual    material
  *   view    hair geometry + transparency + camera + image size + K
- *   shade   everything (always runs), resolve: view + shade
- * and the planner re-runs a pass only when its key changed. It also leaves out what the scene
- * does not need: lobes below SL_FRAME_LOBE_THRESHOLD of the total power (no map, no shading),
- * multiple scattering for dark hair (quality.multiple_scattering auto), and the K-buffer layers
- * no pixel reached. */
+ *   shade   everything, including the per-strand sigma_a (strand_key; always runs),
+ *   resolve view + shade
+ * and the planner re-runs a pass only when its key changed: a per-strand sigma_a edit (paint)
+ * re-runs only lookup + shade + resolve (the multiple-scattering tables and volume use the
+ * material's sigma_a, docs/frame.md). It also leaves out what the scene does not need: lobes
+ * below quality.lobe_threshold of the total power (no map, no shading), multiple scattering for
+ * dark hair (quality.multiple_scattering auto, quality.ms_auto_threshold), (point, lobe) pairs
+ * below quality.point_threshold, the K-buffer layers no pixel reached and, for opaque hair, the
+ * transparency channel. */
 #include "frame_internal.h"
 #include "srbf_c.h"
+#include "voxel.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -21,7 +26,7 @@ void sl_render_opts_default(sl_render_opts *o) {
     memset(o, 0, sizeof *o);
     o->srbf_method = SL_SRBF_METHOD_FAST;
     o->segments = 4;
-    o->lobe_threshold = SL_FRAME_LOBE_THRESHOLD;
+    o->lobe_threshold = -1; /* the scene's quality.lobe_threshold */
 }
 
 void sl_fbuf_free(sl_fbuf *f) {
@@ -54,13 +59,17 @@ static void free_lights(sl_renderer *r) {
     r->light_key = 0;
 }
 
-static void free_volume(sl_renderer *r) {
-    if (r->have_vol) {
-        sl_ftex_free(&r->ftex);
-        sl_voxel_grid_free(&r->vgrid);
-    }
+static void free_march(sl_renderer *r) {
+    if (r->have_vol) sl_ftex_free(&r->ftex);
     r->have_vol = 0;
     r->vol_key = 0;
+}
+
+static void free_volume(sl_renderer *r) {
+    free_march(r);
+    if (r->have_vgrid) sl_voxel_grid_free(&r->vgrid);
+    r->have_vgrid = 0;
+    r->vox_key = 0;
 }
 
 void sl_renderer_free(sl_renderer *r) {
@@ -168,11 +177,9 @@ static int light_pass(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     sl_shadow_opts so;
     memset(&so, 0, sizeof so); /* padding too: the struct is hashed */
     sl_shadow_opts_default(&so);
-    so.layers = s->layers > 0 ? s->layers : so.layers;
-    if (so.layers > SL_SHADOW_MAX_LAYERS) so.layers = SL_SHADOW_MAX_LAYERS;
+    so.layers = sl_frame_shadow_layers(s);
     so.kappa = s->kappa > 0 ? s->kappa : 1.0;
-    so.size = r->o.shadow_size > 0 ? r->o.shadow_size
-                                   : ((size_t)s->width * s->height > 1000000 ? 512 : 256);
+    so.size = sl_frame_shadow_size(s, r->o.shadow_size);
     uint64_t k = hash_geometry(h, 0x11);
     k = sl_hash64(&so, sizeof so, k);
     for (int j = 0; j < nused; j++) {
@@ -235,15 +242,18 @@ static void build_points(sl_renderer *r, const sl_hair *h, shade_map *m, sl_shad
     size_t cap = 1024, n = 0;
     p->pos = sl_malloc(cap * 3 * sizeof *p->pos);
     p->tan = sl_malloc(cap * 3 * sizeof *p->tan);
-#define ADD_POINT(X, T)                                                                            \
+    p->strand = sl_malloc(cap * sizeof *p->strand);
+#define ADD_POINT(X, T, S)                                                                         \
     do {                                                                                           \
         if (n == cap) {                                                                            \
             cap *= 2;                                                                              \
             p->pos = sl_realloc(p->pos, cap * 3 * sizeof *p->pos);                                 \
             p->tan = sl_realloc(p->tan, cap * 3 * sizeof *p->tan);                                 \
+            p->strand = sl_realloc(p->strand, cap * sizeof *p->strand);                            \
         }                                                                                          \
         for (int q = 0; q < 3; q++)                                                                \
             p->pos[3 * n + q] = (X)[q], p->tan[3 * n + q] = (T)[q];                                \
+        p->strand[n] = (S);                                                                        \
         n++;                                                                                       \
     } while (0)
     if (k == 0) {
@@ -259,7 +269,7 @@ static void build_points(sl_renderer *r, const sl_hair *h, shade_map *m, sl_shad
                 float t[3];
                 sl_hair_tangent(h, s, f->seg - h->strand_first[s], t);
                 m->entry[px * K + i] = (uint32_t)n;
-                ADD_POINT(x, t);
+                ADD_POINT(x, t, s);
             }
     } else {
         m->anchor = sl_malloc((size_t)h->num_points * sizeof *m->anchor);
@@ -283,7 +293,7 @@ static void build_points(sl_renderer *r, const sl_hair *h, shade_map *m, sl_shad
             float t[3];
             sl_hair_point_tangent(h, s, i - h->strand_first[s], t);
             m->anchor[i] = (uint32_t)n;
-            ADD_POINT(x, t);
+            ADD_POINT(x, t, s);
         }
     }
 #undef ADD_POINT
@@ -309,10 +319,73 @@ static void entry_shade(const sl_renderer *r, const sl_hair *h, const shade_map 
         v[q] = a[q] + w * (b[q] - a[q]);
 }
 
+int sl_frame_oit_k(const sl_scene *s) {
+    int K = s->oit_layers > 0 ? s->oit_layers : 8;
+    return K > SL_KBUFFER_MAX ? SL_KBUFFER_MAX : K;
+}
+
+int sl_frame_shadow_size(const sl_scene *s, int opt) {
+    if (opt > 0) return opt;
+    if (s->shadow_size > 0) return s->shadow_size;
+    return (size_t)s->width * s->height > 1000000 ? 512 : 256;
+}
+
+int sl_frame_shadow_layers(const sl_scene *s) {
+    int L = s->layers > 0 ? s->layers : SL_SHADOW_DEFAULT_LAYERS;
+    return L > SL_SHADOW_MAX_LAYERS ? SL_SHADOW_MAX_LAYERS : L;
+}
+
+/* Per pixel: the frame buffer (SL_FBUF_FLOATS, alloc_fbuf), the K-buffer (K sl_kfrag + a uint8
+ * count, frame_view.c), the fragment-rate shade map (K uint32, build_points) and ~16 B for the
+ * outputs (cmd_render's EXR planes). Per lobe map: z0 (uint32) + K layers of 64-bit summed-area
+ * tables (host/shadow.h). The voxel grid: SL_VOX_FIELDS floats per voxel. The shading points
+ * (at most one per K-buffer entry: pos 24 B, tan 12 B, strand 4 B, T 4 B per lobe, out 56 B)
+ * are counted at fragment rate, their largest case. */
+void sl_frame_estimate(const sl_scene *s, int shadow_size_opt, sl_frame_need *n) {
+    double npx = (double)s->width * (double)s->height;
+    int K = sl_frame_oit_k(s);
+    double fbuf = SL_FBUF_FLOATS * sizeof(float) * npx, kbuf = npx * K * (double)sizeof(sl_kfrag);
+    double view = kbuf + npx * (1.0 + 4.0 * K), outs = 16.0 * npx;
+    int size = sl_frame_shadow_size(s, shadow_size_opt), layers = sl_frame_shadow_layers(s);
+    int nl = s->lobes > 0 ? s->lobes : 1;
+    double points = npx * K * (24.0 + 12.0 + 4.0 + 4.0 * nl + 4.0 * SL_SHADE_FLOATS);
+    double shadow_one = (double)size * size * (4.0 + 8.0 * layers), shadow = nl * shadow_one;
+    double vox =
+        s->voxels > 0 ? (double)s->voxels * s->voxels * s->voxels * 4.0 * SL_VOX_FIELDS : 0.0;
+    n->host = fbuf + view + outs + points + shadow + vox;
+    n->largest = kbuf, n->largest_what = "K-buffer",
+    n->setting = "image.width/height or quality.oit_layers";
+    if (npx * 16.0 > n->largest)
+        n->largest = npx * 16.0, n->largest_what = "frame buffer",
+        n->setting = "image.width/height";
+    if (shadow_one > n->largest)
+        n->largest = shadow_one, n->largest_what = "deep opacity map",
+        n->setting = "quality.shadow_size or quality.layers";
+    if (vox > n->largest)
+        n->largest = vox, n->largest_what = "voxel grid", n->setting = "quality.voxels";
+    /* the setting to name for the total: the biggest contributor */
+    double parts[4] = {fbuf + outs, view + points, shadow, vox};
+    const char *names[4] = {"image.width/height", "image.width/height or quality.oit_layers",
+                            "quality.shadow_size, quality.layers or quality.lobes",
+                            "quality.voxels"};
+    int big = 0;
+    for (int i = 1; i < 4; i++)
+        if (parts[i] > parts[big]) big = i;
+    n->host_setting = names[big];
+}
+
+size_t sl_frame_estimate_bytes(const sl_scene *s, int shadow_size_opt) {
+    sl_frame_need n;
+    sl_frame_estimate(s, shadow_size_opt, &n);
+    return n.host >= (double)SIZE_MAX ? SIZE_MAX : (size_t)n.host;
+}
+
 static int alloc_fbuf(sl_fbuf *f, int w, int h) {
     memset(f, 0, sizeof *f);
     size_t n = (size_t)w * h;
     f->width = w, f->height = h;
+    /* SL_FBUF_FLOATS per pixel (the estimate counts them): 4 + 1 + 4 x 3 + 1 + 1 */
+    _Static_assert(SL_FBUF_FLOATS == 4 + 1 + 4 * 3 + 1 + 1, "sl_fbuf layout");
     f->rgba = sl_calloc(4 * n, sizeof(float));
     f->depth = sl_malloc(n * sizeof(float));
     for (int k = 0; k < 4; k++)
@@ -334,6 +407,12 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
         return sl_fail(e, "render: material model deon: the SRBF response (xu/fast) exists for "
                           "the Marschner model only (docs/srbf.md)");
     if (lobes->count < 1) return sl_fail(e, "render: the environment has no lobes");
+    if (r->strand_sigma_a && r->strand_sigma_a_n != h->num_strands)
+        return sl_fail(e,
+                       "render: per-strand sigma_a has %u strands but the hair has %u (the "
+                       "overrides belong to another hair)",
+                       r->strand_sigma_a_n, h->num_strands);
+    const double lobe_thr = r->o.lobe_threshold >= 0 ? r->o.lobe_threshold : s->lobe_threshold;
     int rate;
     if (sl_shading_rate_parse(s->shading_rate, &rate, e)) return -1;
     if (!r->have_tables) {
@@ -359,7 +438,7 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     double *share = sl_malloc(lobes->count * sizeof *share), skipped_share = 0;
     for (int j = 0; j < lobes->count; j++) {
         double sh = total > 0 ? power[j] / total : 0;
-        if (sh >= r->o.lobe_threshold) {
+        if (sh >= lobe_thr) {
             share[nused] = sh;
             used[nused++] = j;
         } else {
@@ -370,19 +449,20 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     r->lobes_used = nused;
     if (nused < lobes->count)
         sl_frame_pass(r, "lobes", SL_PASS_SKIPPED, 0,
-                      "%d of %d lobes below %.3g of the total power (together %.2g %%) left out",
-                      lobes->count - nused, lobes->count, r->o.lobe_threshold, 100 * skipped_share);
+                      "%d of %d lobes below %.3g of the total power (quality.lobe_threshold; "
+                      "together %.2g %%) left out",
+                      lobes->count - nused, lobes->count, lobe_thr, 100 * skipped_share);
     else
-        sl_frame_pass(r, "lobes", SL_PASS_RUN, 0, "all %d lobes above %.3g of the total power",
-                      nused, r->o.lobe_threshold);
+        sl_frame_pass(r, "lobes", SL_PASS_RUN, 0,
+                      "all %d lobes above %.3g of the total power (quality.lobe_threshold)", nused,
+                      lobe_thr);
 
     int rc = -1;
     sl_shade_points pts = {0};
     shade_map sm = {0};
     if (light_pass(r, s, h, lobes, used, nused, e)) goto done;
 
-    /* dual-scattering tables and the multiple-scattering decision */
-    t0 = sl_now();
+    /* the multiple-scattering decision (the material key dk: dual tables, march, MS response) */
     uint64_t dk = 0x22; /* field by field: the struct has padding */
     int mi[4] = {mat->model, mat->fresnel, mat->orders, mat->sigma_a_rgb};
     dk = sl_hash64(mi, sizeof mi, dk);
@@ -392,62 +472,82 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     dk = sl_hash64(mat->sigma_a, sizeof mat->sigma_a, dk);
     dk = sl_hash64(&mat->eccentricity, sizeof mat->eccentricity, dk);
     dk = sl_hash64(&mat->caustic_width, sizeof mat->caustic_width, dk);
-    if (!r->dual_ok || dk != r->dual_key) {
-        if (sl_dual_tables_build(mat, &r->dual, e)) goto done;
-        r->dual_ok = 1;
-        r->dual_key = dk;
-    }
+    t0 = sl_now();
     double ms_share = -1;
     if (s->multiple_scattering == SL_MS_OFF) {
         r->ms_on = 0;
         sl_frame_pass(r, "ms", SL_PASS_SKIPPED, 0, "quality.multiple_scattering is off");
     } else {
         ms_share = sl_dual_ms_share(mat);
-        r->ms_on = s->multiple_scattering == SL_MS_ON || ms_share >= SL_FRAME_MS_AUTO_THRESHOLD;
+        r->ms_on = s->multiple_scattering == SL_MS_ON || ms_share >= s->ms_auto_threshold;
         if (r->ms_on)
             sl_frame_pass(r, "ms", SL_PASS_RUN, sl_now() - t0,
-                          "%s: estimated multiple-scattering share %.3f (threshold %.2f)",
+                          "%s: estimated multiple-scattering share %.3f (quality.ms_auto_threshold "
+                          "%.3g)%s",
                           s->multiple_scattering == SL_MS_ON ? "on" : "auto", ms_share,
-                          SL_FRAME_MS_AUTO_THRESHOLD);
+                          s->ms_auto_threshold,
+                          r->strand_sigma_a ? "; uses the material's sigma_a, not per strand" : "");
         else
             sl_frame_pass(r, "ms", SL_PASS_SKIPPED, sl_now() - t0,
-                          "auto: dark hair, estimated multiple-scattering share %.4f < %.2f",
-                          ms_share, SL_FRAME_MS_AUTO_THRESHOLD);
+                          "auto: dark hair, estimated multiple-scattering share %.4f < %.3g "
+                          "(quality.ms_auto_threshold)",
+                          ms_share, s->ms_auto_threshold);
     }
     if (r->ms_on) {
-        /* volume: voxel grid + shadow-path march toward every used lobe (host/volume.h) */
-        uint64_t vk0 = hash_geometry(h, 0x44);
-        vk0 = sl_hash64(&s->voxels, sizeof s->voxels, vk0);
-        vk0 = sl_hash64(&dk, sizeof dk, vk0);
+        /* the dual-scattering tables feed only the march: built when MS runs */
+        t0 = sl_now();
+        if (!r->dual_ok || dk != r->dual_key) {
+            r->dual_ok = 0;
+            if (sl_dual_tables_build(mat, &r->dual, e)) goto done;
+            r->dual_ok = 1;
+            r->dual_key = dk;
+            sl_frame_pass(r, "dual", SL_PASS_RUN, sl_now() - t0,
+                          "dual-scattering material tables (material changed)");
+        } else {
+            sl_frame_pass(r, "dual", SL_PASS_CACHED, 0,
+                          "dual-scattering tables reused (material unchanged)");
+        }
+        /* volume: voxel grid (geometry) + shadow-path march toward every used lobe through the
+         * dual tables (material), keyed apart so a material edit re-runs only the march */
+        uint64_t gk = hash_geometry(h, 0x44);
+        gk = sl_hash64(&s->voxels, sizeof s->voxels, gk);
         double *dirs = sl_malloc(3 * (nused ? nused : 1) * sizeof *dirs);
         for (int j = 0; j < nused; j++)
             for (int k = 0; k < 3; k++)
                 dirs[3 * j + k] = lobes->lobe[used[j]].dir[k];
+        uint64_t vk0 = sl_hash64(&dk, sizeof dk, gk);
         vk0 = sl_hash64(dirs, 3 * nused * sizeof *dirs, vk0);
-        if (r->have_vol && vk0 == r->vol_key) {
+        if (r->have_vol && r->have_vgrid && gk == r->vox_key && vk0 == r->vol_key) {
             sl_frame_pass(r, "volume", SL_PASS_CACHED, 0,
                           "voxel grid and march textures reused (geometry, lobes, material "
                           "unchanged)");
         } else {
-            free_volume(r);
             t0 = sl_now();
+            int grid_cached = r->have_vgrid && gk == r->vox_key;
+            free_march(r);
             sl_march_opts mo;
             sl_march_opts_default(&mo);
-            if (sl_voxelize(r->dev, h, s->voxels, &r->vgrid, e)) {
-                free(dirs);
-                goto done;
+            if (!grid_cached) {
+                free_volume(r);
+                if (sl_voxelize(r->dev, h, s->voxels, &r->vgrid, e)) {
+                    free(dirs);
+                    goto done;
+                }
+                r->have_vgrid = 1;
+                r->vox_key = gk;
             }
             if (sl_march_build(r->dev, &r->vgrid, &r->dual, nused, dirs, &mo, &r->ftex, e)) {
-                sl_voxel_grid_free(&r->vgrid);
                 free(dirs);
                 goto done;
             }
             r->have_vol = 1;
             r->vol_key = vk0;
             sl_frame_pass(r, "volume", SL_PASS_RUN, sl_now() - t0,
-                          "voxels %dx%dx%d, march %d paths toward %d lobes (%zu active vertices)",
-                          r->vgrid.n[0], r->vgrid.n[1], r->vgrid.n[2], mo.paths, nused,
-                          r->ftex.active);
+                          "voxels %dx%dx%d (%s), march %d paths toward %d lobes (%zu active "
+                          "vertices)",
+                          r->vgrid.n[0], r->vgrid.n[1], r->vgrid.n[2],
+                          grid_cached ? "grid reused: geometry unchanged" : "voxelized", mo.paths,
+                          nused, r->ftex.active);
         }
         free(dirs);
         if (!r->have_vms || r->vms_key != dk) {
@@ -458,12 +558,12 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
             r->vms_key = dk;
         }
     } else {
+        sl_frame_pass(r, "dual", SL_PASS_SKIPPED, 0, "no multiple scattering");
         sl_frame_pass(r, "volume", SL_PASS_SKIPPED, 0, "no multiple scattering");
     }
 
     /* view pass */
-    int K = s->oit_layers > 0 ? s->oit_layers : 8;
-    if (K > SL_KBUFFER_MAX) K = SL_KBUFFER_MAX;
+    int K = sl_frame_oit_k(s);
     int transparent = hair_transparent(h);
     uint64_t vk = hash_geometry(h, 0x33);
     if (h->transparency) vk = sl_hash64(h->transparency, (size_t)h->num_points * sizeof(float), vk);
@@ -483,7 +583,8 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
         for (size_t i = 0; i < npx; i++)
             if (r->kcount[i] > maxc) maxc = r->kcount[i];
         sl_frame_pass(r, "view", SL_PASS_RUN, sl_now() - t0,
-                      "%zu fragments, K=%d (deepest pixel %d), %zu merged on overflow, "
+                      "%zu fragments, K=%d (deepest pixel %d), %zu merged on overflow or hidden "
+                      "behind full coverage, "
                       "K-buffer on %s; %s",
                       r->frags, K, maxc, r->merges, r->kbuf_on_device ? "OpenCL" : "C",
                       transparent ? "per-point transparency applied"
@@ -493,12 +594,12 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     /* shading rate */
     if (rate < 0) {
         /* auto: shading dominates the CPU cost, so shade at strand vertices (interpolated along
-         * the strand) unless segments project longer than SL_FRAME_AUTO_FRAGMENT_PX, where the
+         * the strand) unless segments project longer than quality.auto_fragment_px, where the
          * linear interpolation would visibly flatten highlights; segments shorter than a pixel
          * are shaded every k-th vertex, k = floor(2 px / length), so shaded points stay about
          * 2 px apart on screen (k <= 8) */
         float L = r->seg_px_median;
-        if (L >= SL_FRAME_AUTO_FRAGMENT_PX)
+        if (L >= s->auto_fragment_px)
             rate = 0;
         else {
             int k = L > 0 ? (int)floorf(2.0f / L) : 8;
@@ -531,7 +632,17 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     sl_frame_pass(r, "lookup", SL_PASS_RUN, sl_now() - t0,
                   "transmittance of %zu shading points toward %d lobes", pts.n, nused);
     t0 = sl_now();
-    sl_shade_ctx sc = {mat, lobes, used, nused, share, cam, r->ms_on, &r->ftex, &r->vms};
+    sl_shade_ctx sc = {mat,
+                       lobes,
+                       used,
+                       nused,
+                       share,
+                       cam,
+                       r->ms_on,
+                       &r->ftex,
+                       &r->vms,
+                       s->point_threshold,
+                       r->strand_sigma_a};
     if (sl_frame_shade(r, &sc, &pts, e)) goto done;
     double lobes_eval = 0;
     for (size_t i = 0; i < pts.n; i++)
@@ -541,16 +652,18 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
         snprintf(ratebuf, sizeof ratebuf, "fragment");
     else
         snprintf(ratebuf, sizeof ratebuf, "vertex:%d", rate);
-    sl_frame_pass(r, "shade", SL_PASS_RUN, sl_now() - t0,
-                  "rate %s (%s; median segment %.2f px): %zu points, %.0f lobe evaluations "
-                  "(%.1f per point), SRBF %s on %s",
-                  ratebuf, strcmp(s->shading_rate, "auto") ? "quality.shading_rate" : "auto",
-                  r->seg_px_median, pts.n, lobes_eval, pts.n ? lobes_eval / pts.n : 0.0,
-                  r->o.srbf_method == SL_SRBF_METHOD_FAST ? "fast" : "xu",
-                  sl_frame_srbf_on_device(r) ? "OpenCL"
-                  : r->dev->is_opencl
-                      ? "C (auto picked a CPU OpenCL device; the C twin is faster there)"
-                      : "C");
+    sl_frame_pass(
+        r, "shade", SL_PASS_RUN, sl_now() - t0,
+        "rate %s (%s; median segment %.2f px): %zu points, %.0f lobe evaluations "
+        "(%.1f per point, quality.point_threshold %.3g)%s, SRBF %s on %s",
+        ratebuf,
+        strcmp(s->shading_rate, "auto") ? "quality.shading_rate" : "auto, quality.auto_fragment_px",
+        r->seg_px_median, pts.n, lobes_eval, pts.n ? lobes_eval / pts.n : 0.0, s->point_threshold,
+        r->strand_sigma_a ? ", per-strand sigma_a" : "",
+        r->o.srbf_method == SL_SRBF_METHOD_FAST ? "fast" : "xu",
+        sl_frame_srbf_on_device(r) ? "OpenCL"
+        : r->dev->is_opencl ? "C (auto picked a CPU OpenCL device; the C twin is faster there)"
+                            : "C");
 
     /* resolve */
     t0 = sl_now();
@@ -589,6 +702,7 @@ done:
     free(share);
     free(pts.pos);
     free(pts.tan);
+    free(pts.strand);
     free(pts.T);
     free(pts.out);
     free(sm.strand_of);

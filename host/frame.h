@@ -38,21 +38,15 @@
 
 #include <stdio.h>
 
-/* Planner thresholds (docs/frame.md). The scene has no keys for them yet. */
-#define SL_FRAME_LOBE_THRESHOLD 1e-3  /* skip lobes below this share of the total lobe power */
-#define SL_FRAME_POINT_THRESHOLD 1e-4 /* per point: skip lobe j when T_j x its share is below */
-/* quality.multiple_scattering "auto": run the volume passes when sl_dual_ms_share(material) is at
- * least this (docs/dual.md: black hair 0.004, brown 0.041, blond 0.28). */
-#define SL_FRAME_MS_AUTO_THRESHOLD 0.02
-#define SL_FRAME_AUTO_FRAGMENT_PX                                                                  \
-    24.0f /* shading_rate auto: fragments above this segment length                                \
-           */
+/* Planner thresholds (docs/frame.md): SL_FRAME_LOBE_THRESHOLD, SL_FRAME_POINT_THRESHOLD,
+ * SL_FRAME_MS_AUTO_THRESHOLD and SL_FRAME_AUTO_FRAGMENT_PX are the defaults of the scene keys
+ * quality.lobe_threshold, point_threshold, ms_auto_threshold, auto_fragment_px (host/scene.h). */
 
 typedef struct sl_render_opts {
     int srbf_method;       /* SL_SRBF_METHOD_FAST (default) or _XU (cpu/srbf_c.h) */
     int segments;          /* m for xu (default 4) */
     int shadow_size;       /* deep opacity map size, 0: auto (256, 512 above 1M pixels) */
-    double lobe_threshold; /* default SL_FRAME_LOBE_THRESHOLD */
+    double lobe_threshold; /* < 0 (default): the scene's quality.lobe_threshold; >= 0 overrides */
     int threads;           /* 0: every online CPU */
     int quiet;             /* no notes */
 } sl_render_opts;
@@ -91,7 +85,9 @@ typedef struct sl_renderer {
     uint64_t dual_key;
     sl_dual_tables dual;
     int dual_ok;
-    uint64_t vol_key; /* voxel grid + march textures (geometry, lobes, material, voxels) */
+    uint64_t vox_key; /* voxel grid (geometry, quality.voxels): a material edit keeps it */
+    int have_vgrid;
+    uint64_t vol_key; /* march textures (voxel grid, used lobes, material through dual) */
     int have_vol;
     sl_voxel_grid vgrid;
     sl_ftex ftex;
@@ -133,6 +129,31 @@ int sl_renderer_set_strand_sigma_a(sl_renderer *r, const float *sigma_a, uint32_
 void sl_renderer_explain(const sl_renderer *r, FILE *f);
 /* The record of pass `name` in the last plan, NULL if it has none. */
 const sl_pass_rec *sl_renderer_pass(const sl_renderer *r, const char *name);
+
+/* Memory the frame of scene s needs, from the same size rules the passes allocate with (so the
+ * estimate cannot drift from the allocations): the frame buffer (SL_FBUF_FLOATS per pixel), the
+ * K-buffer (sl_frame_oit_k), the fragment-rate shade map, one deep opacity map per lobe
+ * (sl_frame_shadow_size, quality.layers) and the voxel grid. shadow_size_opt > 0 overrides the
+ * scene's map size (sl_render_opts.shadow_size). cmd_render refuses requests over budget. */
+typedef struct sl_frame_need {
+    double host;              /* bytes, every buffer together */
+    double largest;           /* bytes, the largest single buffer */
+    const char *largest_what; /* "K-buffer", "frame buffer", "deep opacity map", "voxel grid" */
+    const char *setting;      /* the scene setting that shrinks the largest buffer */
+    const char *host_setting; /* the setting that shrinks the biggest contributor */
+} sl_frame_need;
+void sl_frame_estimate(const sl_scene *s, int shadow_size_opt, sl_frame_need *n);
+/* The total of sl_frame_estimate in bytes. */
+size_t sl_frame_estimate_bytes(const sl_scene *s, int shadow_size_opt);
+/* Floats per pixel of an sl_fbuf: rgba 4 + depth 1 + 4 modes x 3 + shadow 1 + lobes 1. */
+#define SL_FBUF_FLOATS 19
+/* K-buffer entries per pixel for s: quality.oit_layers clamped to [1, SL_KBUFFER_MAX]. */
+int sl_frame_oit_k(const sl_scene *s);
+/* Deep opacity map size (texels per side): opt > 0, else quality.shadow_size, else 256 (512
+ * above 1 M pixels). */
+int sl_frame_shadow_size(const sl_scene *s, int opt);
+/* Deep opacity map layers: quality.layers clamped to [1, SL_SHADOW_MAX_LAYERS]. */
+int sl_frame_shadow_layers(const sl_scene *s);
 
 /* Parses a shading rate ("auto", "fragment", "vertex", "vertex:K"): *k = -1 auto, 0 fragment,
  * K >= 1 every K-th vertex. Returns 0 or -1 with e set. */

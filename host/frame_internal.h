@@ -17,10 +17,11 @@ int sl_frame_view(sl_renderer *r, const sl_hair *h, const sl_camera *cam, int K,
 /* Shading points and what they need. */
 typedef struct sl_shade_points {
     size_t n;
-    double *pos; /* 3 n */
-    float *tan;  /* 3 n, unit */
-    float *T;    /* nlobes x n: transmittance toward each used lobe (1 without a map) */
-    float *out;  /* SL_SHADE_FLOATS n */
+    double *pos;      /* 3 n */
+    float *tan;       /* 3 n, unit */
+    uint32_t *strand; /* n: the strand of each point (for per-strand sigma_a, r->strand_sigma_a) */
+    float *T;         /* nlobes x n: transmittance toward each used lobe (1 without a map) */
+    float *out;       /* SL_SHADE_FLOATS n */
 } sl_shade_points;
 
 typedef struct sl_shade_ctx {
@@ -33,6 +34,12 @@ typedef struct sl_shade_ctx {
     int ms_on;
     const sl_ftex *ftex; /* T_f, sigma_f per lobe (used index) */
     const sl_volume_ms *vms;
+    /* per point: skip lobe j when T_j x share_j < point_threshold x the used shares' sum
+     * (quality.point_threshold, default SL_FRAME_POINT_THRESHOLD) */
+    double point_threshold;
+    /* per-strand sigma_a (3 per strand, indexed by sl_shade_points.strand), or NULL: the
+     * material's sigma_a everywhere (the same as r->strand_sigma_a, checked against the hair) */
+    const float *strand_sigma_a;
 } sl_shade_ctx;
 
 /* 1 when the SRBF response and the K-buffer fill run on the OpenCL device, 0 on the C twins. */

@@ -4,7 +4,10 @@
  * pass), plus multiple scattering: T_f, sigma_f of the volume march (host/volume.h) and the
  * response per fragment and lobe of host/volume_ms.h (Xu 2011 Eq. 27-31). Radiance L = sum_j rgb_j
  * T_j I_j (numerics.md sec. 4: the map is sum_j rgb_j G_j). Rows (point, lobe) are evaluated in
- * chunks, by the C twin in threads or by the OpenCL kernel of `eval srbf` (srbf_eval.cl). */
+ * chunks, all three colour channels in one RGB batch (slc_srbf_rgb_batch / slcl_srbf_rgb_batch:
+ * only the absorption differs between channels, so the rest is computed once), by the C twin in
+ * threads or by the OpenCL kernel srbf_eval.cl. Each row carries its point's sigma_a: the
+ * strand's override (c->strand_sigma_a, painted or from the file's colours) or the material's. */
 #include "frame_internal.h"
 #include "srbf_c.h"
 #include "srbf_cl.h"
@@ -21,19 +24,19 @@ typedef struct sjob {
     const sl_srbf_tables *t;
     int method, segments;
     size_t r0, r1;
-    const float *in;
+    const float *in, *sig;
     float *out;
 } sjob;
 
 static void *srbf_thread(void *arg) {
     sjob *j = arg;
-    slc_srbf_batch(j->fp, j->t->C, j->t->H, j->method, j->segments, j->r1 - j->r0,
-                   j->in + 5 * j->r0, j->out + 4 * j->r0);
+    slc_srbf_rgb_batch(j->fp, j->t->C, j->t->H, j->method, j->segments, j->r1 - j->r0,
+                       j->in + 5 * j->r0, j->sig + 3 * j->r0, j->out + 9 * j->r0);
     return NULL;
 }
 
 static void srbf_c(const sl_renderer *r, const sl_fiber_params *fp, size_t n, const float *in,
-                   float *out) {
+                   const float *sig, float *out) {
     enum { MAXT = 16 };
     int nt = sl_frame_threads(r);
     if (nt > MAXT) nt = MAXT;
@@ -43,7 +46,8 @@ static void srbf_c(const sl_renderer *r, const sl_fiber_params *fp, size_t n, co
     int started[MAXT] = {0};
     for (int t = 0; t < nt; t++) {
         job[t] = (sjob){
-            fp, &r->tables, r->o.srbf_method, r->o.segments, n * t / nt, n * (t + 1) / nt, in, out};
+            fp,  &r->tables, r->o.srbf_method, r->o.segments, n * t / nt, n * (t + 1) / nt, in,
+            sig, out};
         started[t] = t > 0 && pthread_create(&tid[t], NULL, srbf_thread, &job[t]) == 0;
     }
     for (int t = 0; t < nt; t++)
@@ -89,25 +93,22 @@ int sl_frame_srbf_on_device(const sl_renderer *r) {
 }
 
 int sl_frame_shade(sl_renderer *r, const sl_shade_ctx *c, sl_shade_points *p, sl_err *e) {
-    sl_fiber_params fp[3];
-    for (int ch = 0; ch < 3; ch++)
-        sl_material_to_fiber(c->mat, ch, &fp[ch]);
-    int nch = (c->mat->sigma_a[0] == c->mat->sigma_a[1] && c->mat->sigma_a[0] == c->mat->sigma_a[2])
-                  ? 1
-                  : 3;
+    /* one fiber parameter set: the channels differ only in sigma_a, which goes per row */
+    sl_fiber_params fp;
+    sl_material_to_fiber(c->mat, 0, &fp);
+    const float msig[3] = {(float)c->mat->sigma_a[0], (float)c->mat->sigma_a[1],
+                           (float)c->mat->sigma_a[2]};
+    const float *ssig = p->strand ? c->strand_sigma_a : NULL;
     int L = c->nused;
     double share_sum = 0;
     for (int j = 0; j < L; j++)
         share_sum += c->share[j];
-    double *pw = sl_malloc((L ? L : 1) * sizeof *pw); /* lobe power (integral of G) */
-    for (int j = 0; j < L; j++)
-        pw[j] = sl_lobe_integral(c->lobes->lobe[c->used[j]].lambda);
     size_t maxrows = (size_t)CHUNK_POINTS * (L ? L : 1);
     float *in = sl_malloc(maxrows * 5 * sizeof *in);
-    float *res = sl_malloc(maxrows * 4 * nch * sizeof *res);
+    float *sig = sl_malloc(maxrows * 3 * sizeof *sig);
+    float *res = sl_malloc(maxrows * 9 * sizeof *res);
     uint32_t *rpt = sl_malloc(maxrows * sizeof *rpt);
     int *rlobe = sl_malloc(maxrows * sizeof *rlobe);
-    float *tho = sl_malloc(CHUNK_POINTS * sizeof *tho);
     memset(p->out, 0, p->n * SL_SHADE_FLOATS * sizeof *p->out);
     int rc = 0;
     int use_cl = sl_frame_srbf_on_device(r);
@@ -127,18 +128,19 @@ int sl_frame_shade(sl_renderer *r, const sl_shade_ctx *c, sl_shade_points *p, sl
                 wo[k] /= l > 0 ? l : 1;
             float th_o, ph_o;
             angles(u, v, w, wo, &th_o, &ph_o);
-            tho[i - p0] = th_o;
+            const float *ps = ssig ? ssig + 3 * (size_t)p->strand[i] : msig;
             double shadow = 0;
             int count = 0;
             for (int j = 0; j < L; j++) {
                 float T = p->T[(size_t)j * p->n + i];
                 shadow += c->share[j] * T;
-                if (T * c->share[j] < SL_FRAME_POINT_THRESHOLD * share_sum) continue;
+                if (T * c->share[j] < c->point_threshold * share_sum) continue;
                 const sl_lobe *lb = &c->lobes->lobe[c->used[j]];
                 float th_j, ph_j;
                 angles(u, v, w, lb->dir, &th_j, &ph_j);
                 float *x = in + 5 * nr;
                 x[0] = th_o, x[1] = ph_o, x[2] = th_j, x[3] = ph_j, x[4] = (float)lb->lambda;
+                sig[3 * nr] = ps[0], sig[3 * nr + 1] = ps[1], sig[3 * nr + 2] = ps[2];
                 rpt[nr] = (uint32_t)i;
                 rlobe[nr] = j;
                 nr++, count++;
@@ -146,12 +148,11 @@ int sl_frame_shade(sl_renderer *r, const sl_shade_ctx *c, sl_shade_points *p, sl
             p->out[SL_SHADE_FLOATS * i + 12] = share_sum > 0 ? (float)(shadow / share_sum) : 1.0f;
             p->out[SL_SHADE_FLOATS * i + 13] = (float)count;
         }
-        for (int ch = 0; ch < nch && nr; ch++) {
-            float *o = res + (size_t)ch * 4 * maxrows;
+        if (nr) {
             int done = 0;
             if (use_cl && r->dev->is_opencl) {
-                int k = slcl_srbf_batch(r->dev->cl, &fp[ch], &r->tables, r->o.srbf_method,
-                                        r->o.segments, nr, in, o, e);
+                int k = slcl_srbf_rgb_batch(r->dev->cl, &fp, &r->tables, r->o.srbf_method,
+                                            r->o.segments, nr, in, sig, res, e);
                 if (k == 0)
                     done = 1;
                 else if (!sl_device_try_fallback(r->dev, k, e)) {
@@ -159,9 +160,8 @@ int sl_frame_shade(sl_renderer *r, const sl_shade_ctx *c, sl_shade_points *p, sl
                     break;
                 }
             }
-            if (!done) srbf_c(r, &fp[ch], nr, in, o);
+            if (!done) srbf_c(r, &fp, nr, in, sig, res);
         }
-        if (rc) break;
         for (size_t k = 0; k < nr; k++) {
             size_t i = rpt[k];
             int j = rlobe[k];
@@ -175,21 +175,20 @@ int sl_frame_shade(sl_renderer *r, const sl_shade_ctx *c, sl_shade_points *p, sl
                 const float *x = in + 5 * k;
                 sl_volume_ms_response(c->vms, x[0], x[1], x[2], x[3], x[4], Tf, sf, T, ms);
             }
+            const float *o = res + 9 * k; /* R rgb, TT rgb, TRT rgb */
             for (int col = 0; col < 3; col++) {
-                const float *o = res + (size_t)(nch == 1 ? 0 : col) * 4 * maxrows + 4 * k;
                 float g = (float)lb->rgb[col] * T;
-                out[0 + col] += g * o[0];
-                out[3 + col] += g * o[1];
-                out[6 + col] += g * o[2];
+                out[0 + col] += g * o[col];
+                out[3 + col] += g * o[3 + col];
+                out[6 + col] += g * o[6 + col];
                 out[9 + col] += (float)lb->rgb[col] * ms[col]; /* ms includes the power */
             }
         }
     }
-    free(pw);
     free(in);
+    free(sig);
     free(res);
     free(rpt);
     free(rlobe);
-    free(tho);
     return rc;
 }

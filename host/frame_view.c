@@ -112,6 +112,12 @@ int sl_frame_view(sl_renderer *r, const sl_hair *h, const sl_camera *cam, int K,
     if (!done) r->merges = slc_kbuffer_build(&all, w, hh, K, r->kbuf, r->kcount, nt);
     r->kbuf_on_device = done;
     r->frags = all.n;
+    /* fragments without an entry of their own (merged on overflow, or hidden behind a fully
+     * opaque entry, kernels/kbuffer.h): the same count on both backends */
+    size_t entries = 0;
+    for (size_t p = 0; p < npx; p++)
+        entries += r->kcount[p];
+    r->merges = all.n - entries;
     slc_frag_list_free(&all);
     /* median projected segment length (for shading_rate auto) */
     size_t m = 0;

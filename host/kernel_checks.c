@@ -7,6 +7,7 @@
 #include "dodm_cl.h"   /* slchk_dodm (shadow) */
 #include "raster_cl.h" /* slchk_raster (shadow) */
 #include "srbf_cl.h"   /* slchk_srbf (srbf) */
+#include "view_cl.h"   /* slchk_kbuffer, slchk_kbuffer_generic (frame) */
 #include "volume.h"    /* slchk_voxel, slchk_march (volume) */
 
 #include <math.h>
@@ -15,17 +16,22 @@
 
 static const sl_kernel_check checks[] = {
     {"prefix_sum", "inclusive 2-D prefix sum (summed-area table), prefix_sum.cl, work-group scan",
-     slchk_prefix_sum},
+     slchk_prefix_sum, 0},
     {"prefix_sum_serial", "the same, one work-item per tile (the variant CPU devices use)",
-     slchk_prefix_sum_serial},
-    {"raster", "segment rasterizer + DODM tables, raster.cl + dodm.cl (bit-identical)", slchk_raster},
-    {"dodm_lookup", "convolution optical depth lookup T = exp(-tau), dodm.cl", slchk_dodm},
-    {"voxel", "hair voxelization (density, direction, deviation), voxel.cl", slchk_voxel},
-    {"march", "shadow-path march T_f, sigma_f (dual scattering), march.cl", slchk_march},
+     slchk_prefix_sum_serial, 0},
+    {"raster", "segment rasterizer + DODM tables, raster.cl + dodm.cl (bit-identical)",
+     slchk_raster, 0},
+    {"dodm_lookup", "convolution optical depth lookup T = exp(-tau), dodm.cl", slchk_dodm, 0},
+    {"voxel", "hair voxelization (density, direction, deviation), voxel.cl", slchk_voxel, 0},
+    {"march", "shadow-path march T_f, sigma_f (dual scattering), march.cl", slchk_march, 0},
     {"ms", "multiple-scattering response per fragment and lobe (Xu Eq. 27-31), ms.cl",
-     slchk_ms_response},
-    {"dual", "dual-scattering material table nodes, dual.cl", slchk_dual_table},
-    {"srbf", "SRBF response, --method fast and xu (m = 4), srbf_eval.cl", slchk_srbf},
+     slchk_ms_response, 0},
+    {"dual", "dual-scattering material table nodes, dual.cl", slchk_dual_table, 0},
+    {"srbf", "SRBF response, --method fast and xu (m = 4), srbf_eval.cl", slchk_srbf, 0},
+    {"kbuffer", "view-pass K-buffer fill, kbuffer.cl built with -DSL_KB_K=K (bit-identical)",
+     slchk_kbuffer, 1},
+    {"kbuffer_generic", "the same, generic build (K a kernel argument), for the -D gain",
+     slchk_kbuffer_generic, 1},
 };
 
 const sl_kernel_check *sl_kernel_checks(size_t *count) {

@@ -8,8 +8,9 @@
 #include "clrt.h"
 
 typedef struct sl_kernel_check_opts {
-    long size; /* problem size hint (check-specific meaning); 0: the check's default */
-    int reps;  /* timed repetitions (the best one is reported); >= 1 */
+    long size;   /* problem size hint (check-specific meaning); 0: the check's default */
+    int reps;    /* timed repetitions (the best one is reported); >= 1 */
+    int extreme; /* 1: the check's extreme inputs (only checks with has_extreme read it) */
 } sl_kernel_check_opts;
 
 typedef struct sl_kernel_check_result {
@@ -34,6 +35,8 @@ typedef struct sl_kernel_check {
     const char *name; /* as given to --only */
     const char *what; /* one line */
     sl_kernel_check_fn run;
+    int has_extreme; /* the check generates its own extreme inputs when o->extreme is 1; the
+                        others are covered by the sl_kernel_extreme sweep */
 } sl_kernel_check;
 
 /* The registered checks, in run order. */

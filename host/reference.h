@@ -28,9 +28,11 @@ typedef struct sl_reference_settings {
     int width, height;   /* 0: the scene's */
     int progress;        /* 1: progress bar with ETA on stderr (when it is a terminal) */
     int clamp_nonfinite; /* environment map: replace NaN/Inf by 0 instead of failing */
+    int light_split;     /* 1: the aa x aa rays of a pixel share the lights (slref_render_opts) */
 } sl_reference_settings;
 
-void sl_reference_settings_default(sl_reference_settings *s); /* 256 lights, aa 2, seed 1 */
+/* 256 lights, aa 2, seed 1, light_split on */
+void sl_reference_settings_default(sl_reference_settings *s);
 
 typedef struct sl_reference_frame {
     int width, height;
@@ -62,19 +64,32 @@ int sl_reference_write_exr(const char *path, const sl_reference_frame *f, sl_err
 void sl_image_error(const float *x, const float *ref, int w, int h, double *rel_rmse,
                     double rgb3[3], double *p99);
 
+/* The same error on b x b pixel blocks: both images box-filtered to ceil(w/b) x ceil(h/b)
+ * (premultiplied rgb and alpha averaged over the block's pixels), then sl_image_error. It
+ * separates a systematic difference (brightness, shadowing, colour) from pixel-level sampling:
+ * a reference that point-samples many sub-pixel fibers with few rays per pixel has a large
+ * per-pixel error of its own (glints, docs/results.md) that block means average away.
+ * Not numerics.md sec. 6's metric: an additional column of the report. */
+void sl_image_error_blocks(const float *x, const float *ref, int w, int h, int b, double *rel_rmse,
+                           double *p99);
+
 /* The outcome of sl_reference_run (also written as JSON beside the EXR: PATH.json). */
 typedef struct sl_reference_result {
     int cached; /* 1: the EXR with this key was already there, nothing rendered */
     uint64_t key;
     int lights, ms;
-    double time_s; /* render time at N lights (from the JSON when cached) */
+    double time_s;      /* render time at N lights (from the JSON when cached) */
+    double mean_rgb[3]; /* mean premultiplied rgb over all pixels (JSON "mean_rgb") */
+    double coverage;    /* mean alpha over all pixels (JSON "coverage") */
     int has_convergence;
-    double conv_rel_rmse; /* image at N vs image at 2N lights */
+    double conv_rel_rmse; /* image at N vs image at 2N lights and another seed */
     double conv_p99;
+    double conv_rel_rmse_4x4; /* the same on 4 x 4 blocks (sl_image_error_blocks) */
     double time_2n_s;
 } sl_reference_result;
 
-/* Renders at set->lights (and, with convergence, at 2N to measure the N image's own error),
+/* Renders at set->lights (and, with convergence, at 2N lights with jitter seed + 1 to measure
+ * the N image's own error: light cut and camera-ray sampling together),
  * writes exr_path + exr_path.json; when both exist with the same key (and convergence when
  * asked), nothing is rendered and res comes from the JSON. */
 int sl_reference_run(const sl_scene *s, const sl_reference_settings *set, const char *exr_path,

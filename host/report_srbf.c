@@ -10,9 +10,20 @@
 #include "srbf_xu.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+
+/* CPU seconds of the whole process (every thread, PoCL's workers included): rates per CPU
+ * second are rates per core, and unlike wall-clock rates they hold on a machine shared with
+ * other jobs (docs/srbf.md, "Speed"). */
+static double cpu_now(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
 
 void sl_srbf_exact_compute(const sl_srbf_config *cfg, int n, int progress, sl_srbf_exact *out) {
     sl_progress p;
@@ -178,7 +189,8 @@ typedef struct result {
     const char *method, *backend;
     int seg;
     sl_srbf_stats s;
-    double evals_per_s;
+    double evals_per_s;     /* wall clock */
+    double evals_per_cpu_s; /* per CPU second of the process: per core */
 } result;
 
 static int measure(run_ctx *r, int method, int seg, double min_time, result *res, sl_err *e) {
@@ -186,7 +198,7 @@ static int measure(run_ctx *r, int method, int seg, double min_time, result *res
     float *out = sl_malloc((size_t)r->n * 4 * sizeof(float));
     int rc = run_once(r, method, seg, tmp, out, e); /* also warms up (kernel build) */
     if (!rc) sl_srbf_stats_of(r->x, r->n, out, &res->s);
-    double t0 = sl_now(), el = 0.0;
+    double t0 = sl_now(), c0 = cpu_now(), el = 0.0;
     long evals = 0;
     while (!rc && el < min_time) {
         if (r->rep > 1)
@@ -196,9 +208,137 @@ static int measure(run_ctx *r, int method, int seg, double min_time, result *res
         evals += (long)r->n * r->rep;
         el = sl_now() - t0;
     }
+    double cpu = cpu_now() - c0;
     res->evals_per_s = el > 0.0 ? (double)evals / el : 0.0;
+    res->evals_per_cpu_s = cpu > 0.0 ? (double)evals / cpu : 0.0;
     free(tmp);
     free(out);
+    return rc;
+}
+
+/* ---- extra rates of the fast path: 2 C threads, the RGB batch, PoCL generic vs -D ---- */
+
+typedef struct xjob {
+    const run_ctx *r;
+    int rgb;    /* 1: slc_srbf_rgb_batch with 3 distinct sigma_a per row */
+    float *sig; /* 3 per sample row (rgb) */
+    float *out; /* 9 per sample row */
+    double min_time;
+    long rows;
+} xjob;
+
+static void *xjob_run(void *arg) {
+    xjob *j = arg;
+    const run_ctx *r = j->r;
+    double t0 = sl_now();
+    j->rows = 0;
+    while (sl_now() - t0 < j->min_time) {
+        for (int g = 0; g < SL_SRBF_SAMPLE_MATERIALS; g++) {
+            size_t a = (size_t)r->start[g], cnt = (size_t)(r->start[g + 1] - r->start[g]);
+            if (!cnt) continue;
+            if (j->rgb)
+                slc_srbf_rgb_batch(&r->fp[g], r->t.C, r->t.H, SL_SRBF_METHOD_FAST, 4, cnt,
+                                   r->in + 5 * a, j->sig + 3 * a, j->out + 9 * a);
+            else
+                slc_srbf_batch(&r->fp[g], r->t.C, r->t.H, SL_SRBF_METHOD_FAST, 4, cnt,
+                               r->in + 5 * a, j->out + 4 * a);
+        }
+        j->rows += r->n;
+    }
+    return NULL;
+}
+
+/* rows/s (wall) and rows per CPU second over nt threads. */
+static void xrates(const run_ctx *r, int rgb, int nt, float *sig, double min_time, double *wall,
+                   double *per_core) {
+    enum { MAXT = 2 };
+    xjob j[MAXT];
+    pthread_t tid[MAXT];
+    int started[MAXT] = {0};
+    double t0 = sl_now(), c0 = cpu_now();
+    for (int k = 0; k < nt; k++) {
+        j[k] = (xjob){r, rgb, sig, sl_malloc((size_t)r->n * 9 * sizeof(float)), min_time, 0};
+        started[k] = k > 0 && pthread_create(&tid[k], NULL, xjob_run, &j[k]) == 0;
+    }
+    for (int k = 0; k < nt; k++)
+        if (!started[k]) xjob_run(&j[k]);
+    for (int k = 1; k < nt; k++)
+        if (started[k]) pthread_join(tid[k], NULL);
+    double el = sl_now() - t0, cpu = cpu_now() - c0;
+    long rows = 0;
+    for (int k = 0; k < nt; k++) {
+        rows += j[k].rows;
+        free(j[k].out);
+    }
+    *wall = el > 0 ? (double)rows / el : 0.0;
+    *per_core = cpu > 0 ? (double)rows / cpu : 0.0;
+}
+
+/* PoCL: sl_srbf_eval_rgb generic vs specialised, 64 copies of the sample per material batch. */
+static int cl_rgb_rates(run_ctx *r, float *sig, double min_time, double rate[2], sl_err *e) {
+    int rep = 64;
+    float *sig_rep = sl_malloc((size_t)r->n * rep * 3 * sizeof(float));
+    float *out = sl_malloc((size_t)r->n * rep * 9 * sizeof(float));
+    int rc = 0;
+    rate[0] = rate[1] = 0.0;
+    for (int round = 0; round < 2 && !rc; round++)
+        for (int generic = 1; generic >= 0 && !rc; generic--) {
+            double t0 = sl_now(), el = 0.0;
+            long rows = 0;
+            int first = 1;
+            while (!rc && el < min_time) {
+                for (int g = 0; g < SL_SRBF_SAMPLE_MATERIALS && !rc; g++) {
+                    size_t a = (size_t)r->start[g], cnt = (size_t)(r->start[g + 1] - r->start[g]);
+                    if (!cnt) continue;
+                    for (int k = 0; k < rep; k++) {
+                        memcpy(r->in_rep + 5 * cnt * k, r->in + 5 * a, 5 * cnt * sizeof(float));
+                        memcpy(sig_rep + 3 * cnt * k, sig + 3 * a, 3 * cnt * sizeof(float));
+                    }
+                    rc = slcl_srbf_rgb_batch_ex(r->cl, &r->fp[g], &r->t, SL_SRBF_METHOD_FAST, 4,
+                                                cnt * rep, r->in_rep, sig_rep, out, generic, e);
+                }
+                if (first) { /* the first pass builds the programs: untimed */
+                    first = 0;
+                    t0 = sl_now();
+                    continue;
+                }
+                rows += (long)r->n * rep;
+                el = sl_now() - t0;
+            }
+            double v = el > 0 ? (double)rows / el : 0.0;
+            if (v > rate[1 - generic]) rate[1 - generic] = v;
+        }
+    free(sig_rep);
+    free(out);
+    return rc;
+}
+
+static int print_extra_rates(run_ctx *r, double min_time, sl_err *e) {
+    /* 3 distinct sigma_a per row, in the ratios of data/default.json (0.18 : 0.32 : 0.62) */
+    float *sig = sl_malloc((size_t)r->n * 3 * sizeof(float));
+    for (int g = 0; g < SL_SRBF_SAMPLE_MATERIALS; g++)
+        for (int i = r->start[g]; i < r->start[g + 1]; i++) {
+            float s0 = r->fp[g].sigma_a;
+            sig[3 * i] = s0, sig[3 * i + 1] = s0 * 1.78f, sig[3 * i + 2] = s0 * 3.44f;
+        }
+    double w1, c1, w2, c2, wr, cr;
+    xrates(r, 0, 1, sig, min_time, &w1, &c1);
+    xrates(r, 0, 2, sig, min_time, &w2, &c2);
+    xrates(r, 1, 1, sig, min_time, &wr, &cr);
+    printf("\nfast, c: 1 thread %.3g lobe evals/s (%.3g per core); 2 threads %.3g/s (%.3g per "
+           "core); RGB batch (slc_srbf_rgb_batch, 3 sigma_a per row, 1 thread) %.3g rows/s = "
+           "%.3g channel evals/s (%.3g per core)\n",
+           w1, c1, w2, c2, wr, 3.0 * wr, 3.0 * cr);
+    int rc = 0;
+    if (r->cl) {
+        double rate[2];
+        rc = cl_rgb_rates(r, sig, min_time, rate, e);
+        if (!rc)
+            printf("fast, opencl RGB batch (sl_srbf_eval_rgb, 64 copies per batch, uploads "
+                   "included): generic build %.3g rows/s, -D specialised %.3g rows/s (x%.2f)\n",
+                   rate[0], rate[1], rate[0] > 0 ? rate[1] / rate[0] : 0.0);
+    }
+    free(sig);
     return rc;
 }
 
@@ -285,14 +425,15 @@ static int write_csv(const char *path, const result *r, int nr, int n, sl_err *e
     if (sl_atomic_open(&af, path, e)) return -1;
     fprintf(af.fp,
             "method,segments,backend,n,median,p95,max,median_R,p95_R,median_TT,p95_TT,"
-            "median_TRT,p95_TRT,n_above_floor,median_above_floor,p95_above_floor,evals_per_s\n");
+            "median_TRT,p95_TRT,n_above_floor,median_above_floor,p95_above_floor,evals_per_s,"
+            "evals_per_cpu_s\n");
     for (int i = 0; i < nr; i++) {
         const sl_srbf_stats *s = &r[i].s;
         fprintf(af.fp,
-                "%s,%d,%s,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%.6g,%.6g,%.6g\n",
+                "%s,%d,%s,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%.6g,%.6g,%.6g,%.6g\n",
                 r[i].method, r[i].seg, r[i].backend, n, s->median[3], s->p95[3], s->max[3],
                 s->median[0], s->p95[0], s->median[1], s->p95[1], s->median[2], s->p95[2],
-                s->n_above, s->median_above, s->p95_above, r[i].evals_per_s);
+                s->n_above, s->median_above, s->p95_above, r[i].evals_per_s, r[i].evals_per_cpu_s);
     }
     if (ferror(af.fp)) {
         sl_atomic_abort(&af);
@@ -369,8 +510,11 @@ int sl_report_srbf(const sl_report_srbf_opts *o, sl_err *e) {
                 if (rc) break;
                 if (round == 0)
                     res[nr++] = q;
-                else if (q.evals_per_s > res[k2].evals_per_s)
-                    res[k2].evals_per_s = q.evals_per_s;
+                else {
+                    if (q.evals_per_s > res[k2].evals_per_s) res[k2].evals_per_s = q.evals_per_s;
+                    if (q.evals_per_cpu_s > res[k2].evals_per_cpu_s)
+                        res[k2].evals_per_cpu_s = q.evals_per_cpu_s;
+                }
             }
         }
     }
@@ -380,21 +524,25 @@ int sl_report_srbf(const sl_report_srbf_opts *o, sl_err *e) {
                "exact I above the error floor\n\n",
                n, SL_SRBF_SAMPLE_SEED, nr ? res[0].s.n_above : 0);
         printf("| method | m | backend | I median | I p95 | I max | R p95 | TT p95 | TRT p95 | "
-               "above floor: median | p95 | lobe evals/s |\n"
-               "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+               "above floor: median | p95 | lobe evals/s | per core (CPU s) |\n"
+               "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
         for (int i = 0; i < nr; i++) {
             const sl_srbf_stats *s = &res[i].s;
             printf("| %s | %s%.0d | %s | %.4f | %.4f | %.3f | %.4f | %.4f | %.4f | %.4f | %.4f | "
-                   "%.3g |\n",
+                   "%.3g | %.3g |\n",
                    res[i].method, res[i].seg ? "" : "-", res[i].seg, res[i].backend, s->median[3],
                    s->p95[3], s->max[3], s->p95[0], s->p95[1], s->p95[2], s->median_above,
-                   s->p95_above, res[i].evals_per_s);
+                   s->p95_above, res[i].evals_per_s, res[i].evals_per_cpu_s);
         }
         if (have_cl)
             printf("\nopencl: %s (batches of 64 copies of the sample's rows per material; rates "
                    "include "
                    "the upload of rows and tables per batch)\n",
                    dev.name);
+    }
+    if (!rc) {
+        r.cl = have_cl ? dev.cl : NULL;
+        rc = print_extra_rates(&r, min_time / 3.0, e);
     }
     if (!rc && o->csv) rc = write_csv(o->csv, res, nr, n, e);
     if (!rc && o->svg) rc = write_svg(o->svg, res, nr, e);

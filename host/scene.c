@@ -34,6 +34,10 @@ void sl_scene_default(sl_scene *s) {
     s->oit_layers = 8;
     s->shadow_size = 0; /* light-map size, texels; 0: the consumer's default (eval: 512) */
     snprintf(s->shading_rate, sizeof s->shading_rate, "auto");
+    s->lobe_threshold = SL_FRAME_LOBE_THRESHOLD;
+    s->point_threshold = SL_FRAME_POINT_THRESHOLD;
+    s->ms_auto_threshold = SL_FRAME_MS_AUTO_THRESHOLD;
+    s->auto_fragment_px = SL_FRAME_AUTO_FRAGMENT_PX;
 }
 
 /* Resolves a path from the scene against the scene file's directory. */
@@ -71,8 +75,9 @@ static int read_hair(const sl_json_ctx *top, const cJSON *h, sl_scene *s, sl_err
         else if (strcmp(style, "curly") == 0)
             s->proc_style = 2;
         else
-            return sl_fail(e, "%s: hair.procedural.style: expected \"straight\", \"wavy\" or \"curly\"",
-                           top->file);
+            return sl_fail(
+                e, "%s: hair.procedural.style: expected \"straight\", \"wavy\" or \"curly\"",
+                top->file);
         long v = s->proc_strands;
         if (sl_json_int(&pc, proc, "strands", 0, 1, 4000000, &v, e)) return -1;
         s->proc_strands = (uint32_t)v;
@@ -114,6 +119,26 @@ static int read_hair(const sl_json_ctx *top, const cJSON *h, sl_scene *s, sl_err
     return 0;
 }
 
+/* The material object: the numerics contract's keys (host/material.c) plus our extension
+ * strand_sigma_a, taken out of a copy before the contract's loader sees the rest. */
+static int read_material(const sl_json_ctx *top, const cJSON *m, sl_scene *s, sl_err *e) {
+    const cJSON *ss = cJSON_GetObjectItemCaseSensitive(m, "strand_sigma_a");
+    if (!ss) return sl_material_from_json(m, top->file, "material", &s->material, e);
+    if (!cJSON_IsString(ss) || !ss->valuestring[0])
+        return sl_fail(e, "%s: material.strand_sigma_a: expected \"colors\" or a CSV path",
+                       top->file);
+    if (strcmp(ss->valuestring, "colors") == 0)
+        s->strand_sigma_a_colors = 1;
+    else
+        resolve(s->path, ss->valuestring, s->strand_sigma_a, sizeof s->strand_sigma_a);
+    cJSON *copy = cJSON_Duplicate(m, 1);
+    if (!copy) return sl_fail(e, "%s: material: out of memory", top->file);
+    cJSON_DeleteItemFromObjectCaseSensitive(copy, "strand_sigma_a");
+    int rc = sl_material_from_json(copy, top->file, "material", &s->material, e);
+    cJSON_Delete(copy);
+    return rc;
+}
+
 static int read_environment(const sl_json_ctx *top, const cJSON *env, sl_scene *s, sl_err *e) {
     static const char *const keys[] = {"file", "lobes", "rotation_deg", "intensity", NULL};
     sl_json_ctx c = {top->file, "environment"};
@@ -148,9 +173,11 @@ static int read_camera(const sl_json_ctx *top, const cJSON *cam, sl_scene *s, sl
     double upl = s->up[0] * s->up[0] + s->up[1] * s->up[1] + s->up[2] * s->up[2];
     if (!(upl > 0)) return sl_fail(e, "%s: camera.up: must not be zero", top->file);
     if (s->has_eye) {
-        double d[3] = {s->target[0] - s->eye[0], s->target[1] - s->eye[1], s->target[2] - s->eye[2]};
+        double d[3] = {s->target[0] - s->eye[0], s->target[1] - s->eye[1],
+                       s->target[2] - s->eye[2]};
         double dl = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-        if (!(dl > 0)) return sl_fail(e, "%s: camera.eye: must differ from camera.target", top->file);
+        if (!(dl > 0))
+            return sl_fail(e, "%s: camera.eye: must differ from camera.target", top->file);
         double cx = d[1] * s->up[2] - d[2] * s->up[1], cy = d[2] * s->up[0] - d[0] * s->up[2],
                cz = d[0] * s->up[1] - d[1] * s->up[0];
         if (!(cx * cx + cy * cy + cz * cz > 1e-12 * dl * upl))
@@ -160,9 +187,20 @@ static int read_camera(const sl_json_ctx *top, const cJSON *cam, sl_scene *s, sl
 }
 
 static int read_quality(const sl_json_ctx *top, const cJSON *q, sl_scene *s, sl_err *e) {
-    static const char *const keys[] = {"lobes",      "layers", "segments_m",          "kappa",
-                                       "voxels",     "multiple_scattering", "oit_layers",
-                                       "shading_rate", "shadow_size", NULL};
+    static const char *const keys[] = {"lobes",
+                                       "layers",
+                                       "segments_m",
+                                       "kappa",
+                                       "voxels",
+                                       "multiple_scattering",
+                                       "oit_layers",
+                                       "shading_rate",
+                                       "shadow_size",
+                                       "lobe_threshold",
+                                       "point_threshold",
+                                       "ms_auto_threshold",
+                                       "auto_fragment_px",
+                                       NULL};
     sl_json_ctx c = {top->file, "quality"};
     if (sl_json_check_keys(&c, q, keys, e)) return -1;
     long v;
@@ -187,6 +225,19 @@ static int read_quality(const sl_json_ctx *top, const cJSON *q, sl_scene *s, sl_
     if (sl_json_number(&c, q, "kappa", 0, &s->kappa, e)) return -1;
     if (!(s->kappa > 0 && s->kappa <= 1))
         return sl_fail(e, "%s: quality.kappa: must be in (0, 1]", top->file);
+    /* planner thresholds: shares and a length, so each has a natural range */
+    if (sl_json_number(&c, q, "lobe_threshold", 0, &s->lobe_threshold, e)) return -1;
+    if (!(s->lobe_threshold >= 0 && s->lobe_threshold < 1))
+        return sl_fail(e, "%s: quality.lobe_threshold: must be in [0, 1)", top->file);
+    if (sl_json_number(&c, q, "point_threshold", 0, &s->point_threshold, e)) return -1;
+    if (!(s->point_threshold >= 0 && s->point_threshold < 1))
+        return sl_fail(e, "%s: quality.point_threshold: must be in [0, 1)", top->file);
+    if (sl_json_number(&c, q, "ms_auto_threshold", 0, &s->ms_auto_threshold, e)) return -1;
+    if (!(s->ms_auto_threshold >= 0 && s->ms_auto_threshold <= 1))
+        return sl_fail(e, "%s: quality.ms_auto_threshold: must be in [0, 1]", top->file);
+    if (sl_json_number(&c, q, "auto_fragment_px", 0, &s->auto_fragment_px, e)) return -1;
+    if (!(s->auto_fragment_px > 0 && s->auto_fragment_px <= 1e6))
+        return sl_fail(e, "%s: quality.auto_fragment_px: must be in (0, 1e6]", top->file);
     char ms[16] = "";
     if (sl_json_string(&c, q, "multiple_scattering", 0, ms, sizeof ms, e)) return -1;
     if (ms[0]) {
@@ -197,7 +248,8 @@ static int read_quality(const sl_json_ctx *top, const cJSON *q, sl_scene *s, sl_
         else if (strcmp(ms, "off") == 0)
             s->multiple_scattering = SL_MS_OFF;
         else
-            return sl_fail(e, "%s: quality.multiple_scattering: expected \"on\", \"off\" or \"auto\"",
+            return sl_fail(e,
+                           "%s: quality.multiple_scattering: expected \"on\", \"off\" or \"auto\"",
                            top->file);
     }
     if (sl_json_string(&c, q, "shading_rate", 0, s->shading_rate, sizeof s->shading_rate, e))
@@ -211,8 +263,8 @@ static int read_quality(const sl_json_ctx *top, const cJSON *q, sl_scene *s, sl_
 
 static int read_output(const sl_json_ctx *top, const cJSON *o, sl_scene *s, sl_err *e) {
     static const char *const keys[] = {"exr", "png", "aovs", "float", NULL};
-    static const char *const known_aovs[] = {"R", "TT", "TRT", "MS", "depth", "shadow", "lobes",
-                                             "alpha", NULL};
+    static const char *const known_aovs[] = {"R",      "TT",    "TRT",   "MS", "depth",
+                                             "shadow", "lobes", "alpha", NULL};
     sl_json_ctx c = {top->file, "output"};
     if (sl_json_check_keys(&c, o, keys, e)) return -1;
     char rel[4096] = "";
@@ -223,7 +275,8 @@ static int read_output(const sl_json_ctx *top, const cJSON *o, sl_scene *s, sl_e
     if (rel[0]) resolve(s->path, rel, s->out_png, sizeof s->out_png);
     const cJSON *fl = cJSON_GetObjectItemCaseSensitive(o, "float");
     if (fl) {
-        if (!cJSON_IsBool(fl)) return sl_fail(e, "%s: output.float: expected true or false", top->file);
+        if (!cJSON_IsBool(fl))
+            return sl_fail(e, "%s: output.float: expected true or false", top->file);
         s->exr_float = cJSON_IsTrue(fl);
     }
     const cJSON *a = cJSON_GetObjectItemCaseSensitive(o, "aovs");
@@ -237,8 +290,9 @@ static int read_output(const sl_json_ctx *top, const cJSON *o, sl_scene *s, sl_e
             for (const char *const *k = known_aovs; *k; k++)
                 if (strcmp(*k, it->valuestring) == 0) ok = 1;
             if (!ok)
-                return sl_fail(e, "%s: output.aovs[%d]: unknown AOV \"%s\" (known: R TT TRT MS "
-                                  "depth shadow lobes alpha)",
+                return sl_fail(e,
+                               "%s: output.aovs[%d]: unknown AOV \"%s\" (known: R TT TRT MS "
+                               "depth shadow lobes alpha)",
                                top->file, i, it->valuestring);
             if (s->num_aovs >= 16) return sl_fail(e, "%s: output.aovs: too many", top->file);
             snprintf(s->aovs[s->num_aovs++], sizeof s->aovs[0], "%s", it->valuestring);
@@ -264,7 +318,7 @@ int sl_scene_parse(const char *text, size_t len, const char *file_name, sl_scene
     if (sl_json_check_keys(&top, root, keys, e)) goto done;
     if (sl_json_object(&top, root, "hair", 1, &obj, e) || read_hair(&top, obj, s, e)) goto done;
     if (sl_json_object(&top, root, "material", 0, &obj, e)) goto done;
-    if (obj && sl_material_from_json(obj, file_name, "material", &s->material, e)) goto done;
+    if (obj && read_material(&top, obj, s, e)) goto done;
     if (sl_json_object(&top, root, "environment", 1, &obj, e) || read_environment(&top, obj, s, e))
         goto done;
     if (sl_json_object(&top, root, "camera", 0, &obj, e)) goto done;

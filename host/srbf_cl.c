@@ -9,12 +9,25 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+/* The -D options of srbf_eval.cl for this material and method (its header comment): the method
+ * and m as constants, no Xu code for fast, no eccentric TRT for a round fiber. */
+void slcl_srbf_options(const sl_fiber_params *fp, int method, int segments, char *buf,
+                       size_t size) {
+    if (method == SL_SRBF_METHOD_FAST)
+        snprintf(buf, size, "-DSL_SRBF_SPEC_METHOD=1 -DSL_SRBF_FAST_ONLY%s",
+                 fp->eccentricity == 1.0f ? " -DSL_SRBF_ROUND_ONLY" : "");
+    else
+        snprintf(buf, size, "-DSL_SRBF_SPEC_METHOD=0 -DSL_SRBF_SPEC_SEGMENTS=%d", segments);
+}
+
 int slcl_srbf_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *t, int method,
                     int segments, size_t n, const float *in, float *out, sl_err *e) {
     if (n == 0) return 0;
     if (n > 0xffffffffu) return sl_fail(e, "sl_srbf_eval: too many rows (%zu)", n);
     cl_kernel k;
-    int rc = sl_cl_get_kernel(cl, "srbf_eval.cl", "sl_srbf_eval", "", &k, e);
+    char opts[160];
+    slcl_srbf_options(fp, method, segments, opts, sizeof opts);
+    int rc = sl_cl_get_kernel(cl, "srbf_eval.cl", "sl_srbf_eval", opts, &k, e);
     if (rc) return rc;
     cl_context ctx = sl_cl_context(cl);
     cl_command_queue q = sl_cl_queue(cl);
@@ -57,6 +70,75 @@ int slcl_srbf_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *
     for (int a = 0; a < 4; a++)
         if (buf[a]) clReleaseMemObject(buf[a]);
     return rc;
+}
+
+int slcl_srbf_rgb_batch_ex(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *t,
+                           int method, int segments, size_t n, const float *in,
+                           const float *sigma_a, float *out, int generic, sl_err *e) {
+    if (n == 0) return 0;
+    if (n > 0xffffffffu) return sl_fail(e, "sl_srbf_eval_rgb: too many rows (%zu)", n);
+    cl_kernel k;
+    char opts[160] = "";
+    if (!generic) slcl_srbf_options(fp, method, segments, opts, sizeof opts);
+    int rc = sl_cl_get_kernel(cl, "srbf_eval.cl", "sl_srbf_eval_rgb", opts, &k, e);
+    if (rc) return rc;
+    cl_context ctx = sl_cl_context(cl);
+    cl_command_queue q = sl_cl_queue(cl);
+    cl_int err;
+    /* in, sigma (a 3-float dummy when NULL: a kernel argument may not be a NULL buffer on every
+     * platform), out, C, H */
+    cl_mem buf[5] = {NULL, NULL, NULL, NULL, NULL};
+    float dummy[3] = {0, 0, 0};
+    buf[0] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * 5 * sizeof(float),
+                            (void *)in, &err);
+    if (err == CL_SUCCESS)
+        buf[1] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                (sigma_a ? n * 3 : 3) * sizeof(float),
+                                sigma_a ? (void *)sigma_a : (void *)dummy, &err);
+    if (err == CL_SUCCESS)
+        buf[2] = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, n * 9 * sizeof(float), NULL, &err);
+    if (err == CL_SUCCESS)
+        buf[3] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                SL_SRBF_C_FLOATS * sizeof(float), t->C, &err);
+    if (err == CL_SUCCESS)
+        buf[4] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                SL_SRBF_H_FLOATS * sizeof(float), t->H, &err);
+    rc = sl_cl_check(err, "clCreateBuffer", e);
+    cl_uint nn = (cl_uint)n;
+    cl_int has = sigma_a != NULL, meth = method, seg = segments;
+    if (!rc) {
+        err = clSetKernelArg(k, 0, sizeof *fp, fp);
+        if (err == CL_SUCCESS) err = clSetKernelArg(k, 1, sizeof nn, &nn);
+        if (err == CL_SUCCESS) err = clSetKernelArg(k, 2, sizeof(cl_mem), &buf[0]);
+        if (err == CL_SUCCESS) err = clSetKernelArg(k, 3, sizeof(cl_mem), &buf[1]);
+        if (err == CL_SUCCESS) err = clSetKernelArg(k, 4, sizeof has, &has);
+        for (cl_uint a = 0; a < 3 && err == CL_SUCCESS; a++)
+            err = clSetKernelArg(k, 5 + a, sizeof(cl_mem), &buf[2 + a]);
+        if (err == CL_SUCCESS) err = clSetKernelArg(k, 8, sizeof meth, &meth);
+        if (err == CL_SUCCESS) err = clSetKernelArg(k, 9, sizeof seg, &seg);
+        rc = sl_cl_check(err, "clSetKernelArg", e);
+    }
+    if (!rc) {
+        size_t local = 64, global;
+        size_t maxwg = sl_cl_max_work_group_size(cl);
+        if (maxwg && local > maxwg) local = maxwg;
+        global = (n + local - 1) / local * local;
+        rc = sl_cl_check(clEnqueueNDRangeKernel(q, k, 1, NULL, &global, &local, 0, NULL, NULL),
+                         "sl_srbf_eval_rgb", e);
+    }
+    if (!rc)
+        rc = sl_cl_check(
+            clEnqueueReadBuffer(q, buf[2], CL_TRUE, 0, n * 9 * sizeof(float), out, 0, NULL, NULL),
+            "clEnqueueReadBuffer", e);
+    for (int a = 0; a < 5; a++)
+        if (buf[a]) clReleaseMemObject(buf[a]);
+    return rc;
+}
+
+int slcl_srbf_rgb_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *t, int method,
+                        int segments, size_t n, const float *in, const float *sigma_a, float *out,
+                        sl_err *e) {
+    return slcl_srbf_rgb_batch_ex(cl, fp, t, method, segments, n, in, sigma_a, out, 0, e);
 }
 
 /* `strandlight kernels --only srbf`: srbf_eval.cl against the C twin on the stiff sample's

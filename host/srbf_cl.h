@@ -16,6 +16,20 @@
 int slcl_srbf_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *t, int method,
                     int segments, size_t n, const float *in, float *out, sl_err *e);
 
+/* Three sigma_a per row at once (cpu/srbf_c.h slc_srbf_rgb_batch): sigma_a 3 floats per row or
+ * NULL (fp->sigma_a in all three); out 9 per row (I_R rgb, I_TT rgb, I_TRT rgb). The kernel is
+ * built specialised for fp and method (slcl_srbf_options); the build is cached per option set. */
+int slcl_srbf_rgb_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *t, int method,
+                        int segments, size_t n, const float *in, const float *sigma_a, float *out,
+                        sl_err *e);
+/* The same with generic = 1: the unspecialised build (run-time method, m, eccentricity), for
+ * measuring the gain of the specialisation. */
+int slcl_srbf_rgb_batch_ex(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *t,
+                           int method, int segments, size_t n, const float *in,
+                           const float *sigma_a, float *out, int generic, sl_err *e);
+/* The -D options of kernels/srbf_eval.cl for fp and method (into buf). */
+void slcl_srbf_options(const sl_fiber_params *fp, int method, int segments, char *buf, size_t size);
+
 /* The kernel check of `strandlight kernels` (host/kernel_checks.c): srbf_eval.cl vs the C twin
  * (o->size: number of lobes, default 4096). */
 int slchk_srbf(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);

@@ -4,13 +4,19 @@
  * Both tables are integrals of smooth functions once split at their kinks, so they are computed
  * with composite 20-point Gauss-Legendre on panels placed on the features (the circular
  * Gaussian's centre and shoulders, the kink of |cos^k| at x = phi - pi; h = sin u for H, which
- * removes the square-root behaviour of F at |h| = 1): about 1e-12 relative. */
+ * removes the square-root behaviour of F at |h| = 1): about 1e-12 relative. The fast paths'
+ * W weights (Marschner: TT, TRT, R in H; d'Eon: orders 3..8 and R's Fresnel fit in D,
+ * kernels/srbf_deon.h) are exact Fourier-space convolutions of a root-sum histogram. `eval
+ * srbf` with model deon goes to the d'Eon fast path (--method xu is refused for it). */
 #include "srbf_tables.h"
 
 #include "clrt.h"
 #include "fiber_common_d.h"
 #include "srbf_c.h"
 #include "srbf_cl.h"
+#include "srbf_deon.h"
+#include "srbf_deon_c.h"
+#include "srbf_deon_cl.h"
 #include "srbf_fast.h"
 #include "srbf_xu.h"
 
@@ -255,6 +261,10 @@ static double w_lam_of(double i) {
 }
 
 double sl_srbf_W_exact(int mode, int i, double x, double lam, double phi) {
+    return sl_srbf_W_exact_order(mode == 2 ? 0 : mode + 1, i, x, lam, phi);
+}
+
+double sl_srbf_W_exact_order(int p, int i, double x, double lam, double phi) {
     /* independent of the grid: a direct midpoint rule in u (400000 steps) of
      * 1/2 L_i(cos u) g^c(phi - Phi) cos u over the exact int g^c = 2 pi e^-k I0(k) */
     int n = 400000;
@@ -262,7 +272,7 @@ double sl_srbf_W_exact(int mode, int i, double x, double lam, double phi) {
     for (int k = 0; k < n; k++) {
         double u = -0.5 * PI + (k + 0.5) * du, c = cos(u), L[SL_SRBF_W_NODES];
         w_lagrange(c, L);
-        double sd = sin(0.5 * (phi - w_Phi(mode == 2 ? 0 : mode + 1, x, u)));
+        double sd = sin(0.5 * (phi - w_Phi(p, x, u)));
         s += 0.5 * L[i] * c * exp(-4.0 * sd * sd / (lam * lam)) * du;
     }
     double kk = 2.0 / (lam * lam), i0 = 0.0;
@@ -286,32 +296,87 @@ double sl_srbf_W_exact(int mode, int i, double x, double lam, double phi) {
     return s / (2.0 * PI * i0);
 }
 
-static void build_W(float *W, double *err) {
+/* One eta'-dependent W slice of order p ([ix][il][ip] points, SL_SRBF_W_NX x 1/eta', each
+ * SL_SRBF_W_NODES floats at out + point * stride). wmax: the largest |W| so far (updated). */
+static void build_slice(int p, float *out, int stride, double *hist, double *a, const double *ct,
+                        double *wmax) {
+    double r[W_NMAX + 1];
+    for (int ix = 0; ix < SL_SRBF_W_NX; ix++) {
+        w_histogram(p, w_x_of(ix), W_NB, W_NS, hist);
+        w_cosines(hist, ct, a);
+        for (int il = 0; il < SL_SRBF_W_NL; il++) {
+            int last = w_ratios(w_lam_of(il), r);
+            for (int ip = 0; ip < SL_SRBF_W_NP; ip++) {
+                double v[SL_SRBF_W_NODES];
+                w_eval(a, r, last, PI * ip / (SL_SRBF_W_NP - 1), v);
+                float *o = out + ((ix * SL_SRBF_W_NL + il) * SL_SRBF_W_NP + ip) * stride;
+                for (int i = 0; i < SL_SRBF_W_NODES; i++) {
+                    o[i] = (float)v[i];
+                    *wmax = fmax(*wmax, fabs(v[i]));
+                }
+            }
+        }
+    }
+}
+
+/* Interpolation error of a slice of order p: its trilinear lookup (lookup(x, lam, phi, got))
+ * against the same construction at cell centres, on every 6th x cell, every 3rd lambda cell and
+ * every phi cell; returns the largest absolute difference. */
+typedef void (*w_lookup_fn)(const float *tab, int p, float x, float lam, float phi,
+                            float out[SL_SRBF_W_NODES]);
+
+static double slice_error(int p, const float *tab, w_lookup_fn lookup, double *hist, double *a,
+                          const double *ct) {
+    double r[W_NMAX + 1], e = 0.0;
+    for (int ix = 0; ix + 1 < SL_SRBF_W_NX; ix += 6) {
+        double x = w_x_of(ix + 0.5);
+        w_histogram(p, x, W_NB, W_NS, hist);
+        w_cosines(hist, ct, a);
+        for (int il = 0; il + 1 < SL_SRBF_W_NL; il += 3) {
+            double lam = w_lam_of(il + 0.5);
+            int last = w_ratios(lam, r);
+            for (int ip = 0; ip + 1 < SL_SRBF_W_NP; ip++) {
+                double v[SL_SRBF_W_NODES], phi = PI * (ip + 0.5) / (SL_SRBF_W_NP - 1);
+                w_eval(a, r, last, phi, v);
+                float got[SL_SRBF_W_NODES];
+                lookup(tab, p, (float)x, (float)lam, (float)phi, got);
+                for (int i = 0; i < SL_SRBF_W_NODES; i++)
+                    e = fmax(e, fabs(got[i] - v[i]));
+            }
+        }
+    }
+    return e;
+}
+
+/* Lookups for slice_error: the Marschner fast path's (tab = the H buffer, p = 1, 2) and the
+ * d'Eon slices' (tab = D, p >= 3), each with the kernel code that reads them. */
+static void lookup_H(const float *tab, int p, float x, float lam, float phi,
+                     float out[SL_SRBF_W_NODES]) {
+    sl_srbf_W(tab, p - 1, x, lam, phi, out);
+}
+static void lookup_D(const float *tab, int p, float x, float lam, float phi,
+                     float out[SL_SRBF_W_NODES]) {
+    sl_srbf_deon_cell c;
+    sl_srbf_deon_cell_init(x, lam, phi, &c);
+    for (int i = 0; i < SL_SRBF_W_NODES; i++) {
+        float A[SL_SRBF_W_NODES] = {0};
+        A[i] = 1.0f;
+        out[i] = sl_srbf_deon_cell_dot(tab, p, &c, A);
+    }
+}
+
+/* W (TT, TRT, R) into the H buffer after H_k; the d'Eon slices p = 3..SL_SRBF_DEON_MAX_P into D
+ * (when D != NULL). Errors relative to the largest |W| of the tables they cover. */
+static void build_W(float *H, float *D, double *err, double *err_D) {
     double *hist = sl_malloc((size_t)W_NB * SL_SRBF_W_NODES * sizeof *hist);
     double *a = sl_malloc((size_t)(W_NMAX + 1) * SL_SRBF_W_NODES * sizeof *a);
     double *ct = sl_malloc((size_t)W_NB * sizeof *ct), r[W_NMAX + 1];
     for (int k = 0; k < W_NB; k++)
         ct[k] = cos(2.0 * PI * k / W_NB);
+    float *W = H + SL_SRBF_HK_FLOATS;
     double wmax = 0.0, e = 0.0;
     for (int mode = 0; mode < 2; mode++)
-        for (int ix = 0; ix < SL_SRBF_W_NX; ix++) {
-            w_histogram(mode + 1, w_x_of(ix), W_NB, W_NS, hist);
-            w_cosines(hist, ct, a);
-            for (int il = 0; il < SL_SRBF_W_NL; il++) {
-                int last = w_ratios(w_lam_of(il), r);
-                for (int ip = 0; ip < SL_SRBF_W_NP; ip++) {
-                    double v[SL_SRBF_W_NODES];
-                    w_eval(a, r, last, PI * ip / (SL_SRBF_W_NP - 1), v);
-                    float *o =
-                        W + (((mode * SL_SRBF_W_NX + ix) * SL_SRBF_W_NL + il) * SL_SRBF_W_NP + ip) *
-                                SL_SRBF_W_NODES;
-                    for (int i = 0; i < SL_SRBF_W_NODES; i++) {
-                        o[i] = (float)v[i];
-                        wmax = fmax(wmax, fabs(v[i]));
-                    }
-                }
-            }
-        }
+        build_slice(mode + 1, W + mode * SL_SRBF_DEON_SLICE, SL_SRBF_W_NODES, hist, a, ct, &wmax);
     /* R (p = 0): one slice */
     w_histogram(0, 0.0, W_NB, W_NS, hist);
     w_cosines(hist, ct, a);
@@ -325,30 +390,61 @@ static void build_W(float *W, double *err) {
                 o[i] = (float)v[i];
         }
     }
-    /* error: trilinear lookup against the same construction at cell centres, on every 6th x
-     * cell, every 3rd lambda cell and every phi cell */
-    for (int mode = 0; mode < 2; mode++)
-        for (int ix = 0; ix + 1 < SL_SRBF_W_NX; ix += 6) {
-            double x = w_x_of(ix + 0.5);
-            w_histogram(mode + 1, x, W_NB, W_NS, hist);
-            w_cosines(hist, ct, a);
-            for (int il = 0; il + 1 < SL_SRBF_W_NL; il += 3) {
-                double lam = w_lam_of(il + 0.5);
-                int last = w_ratios(lam, r);
-                for (int ip = 0; ip + 1 < SL_SRBF_W_NP; ip++) {
-                    double v[SL_SRBF_W_NODES], phi = PI * (ip + 0.5) / (SL_SRBF_W_NP - 1);
-                    w_eval(a, r, last, phi, v);
-                    float got[SL_SRBF_W_NODES];
-                    sl_srbf_W(W - SL_SRBF_HK_FLOATS, mode, (float)x, (float)lam, (float)phi, got);
-                    for (int i = 0; i < SL_SRBF_W_NODES; i++)
-                        e = fmax(e, fabs(got[i] - v[i]));
-                }
-            }
-        }
+    for (int p = 1; p <= 2; p++)
+        e = fmax(e, slice_error(p, H, lookup_H, hist, a, ct));
     *err = e / wmax;
+    if (D) {
+        double dmax = 0.0, ed = 0.0;
+        for (int p = 3; p <= SL_SRBF_DEON_MAX_P; p++)
+            build_slice(p, D + (p - 3) * SL_SRBF_W_NODES, SL_SRBF_DEON_CELL, hist, a, ct, &dmax);
+        for (int p = 3; p <= SL_SRBF_DEON_MAX_P; p++)
+            ed = fmax(ed, slice_error(p, D, lookup_D, hist, a, ct));
+        *err_D = ed / dmax;
+    }
     free(hist);
     free(a);
     free(ct);
+}
+
+/* R's Fresnel fit (kernels/srbf_deon.h): per eta the least-squares degree-5 polynomial of the
+ * exact Fresnel F(eta, x) over x in [0, 1] (400 midpoints; normal equations solved in double
+ * with partial pivoting: the monomial Gram matrix on [0, 1] has condition ~1e7, far inside
+ * double precision). out: SL_SRBF_DEON_FIT_NETA x 8 floats. */
+static void build_fresnel_fit(float *out) {
+    for (int ie = 0; ie < SL_SRBF_DEON_FIT_NETA; ie++) {
+        double eta = exp(log(SL_SRBF_ETAMIN) + (log(SL_SRBF_ETAMAX) - log(SL_SRBF_ETAMIN)) * ie /
+                                                   (SL_SRBF_DEON_FIT_NETA - 1));
+        double M[6][7] = {{0}};
+        for (int k = 0; k < 400; k++) {
+            double x = (k + 0.5) / 400.0, f = sld_fresnel_exact(eta, x), pw[11];
+            pw[0] = 1.0;
+            for (int j = 1; j < 11; j++)
+                pw[j] = pw[j - 1] * x;
+            for (int i = 0; i < 6; i++) {
+                for (int j = 0; j < 6; j++)
+                    M[i][j] += pw[i + j];
+                M[i][6] += f * pw[i];
+            }
+        }
+        for (int i = 0; i < 6; i++) {
+            int pv = i;
+            for (int r = i + 1; r < 6; r++)
+                if (fabs(M[r][i]) > fabs(M[pv][i])) pv = r;
+            for (int c = 0; c < 7; c++) {
+                double tmp = M[i][c];
+                M[i][c] = M[pv][c];
+                M[pv][c] = tmp;
+            }
+            for (int r = 0; r < 6; r++)
+                if (r != i) {
+                    double f = M[r][i] / M[i][i];
+                    for (int c = i; c < 7; c++)
+                        M[r][c] -= f * M[i][c];
+                }
+        }
+        for (int i = 0; i < 8; i++)
+            out[ie * 8 + i] = i < 6 ? (float)(M[i][6] / M[i][i]) : 0.0f;
+    }
 }
 
 void sl_srbf_tables_build(sl_srbf_tables *t) {
@@ -356,6 +452,7 @@ void sl_srbf_tables_build(sl_srbf_tables *t) {
     gauss_legendre(NGL, gx, gw);
     t->C = sl_calloc(SL_SRBF_C_FLOATS, sizeof(float));
     t->H = sl_calloc(SL_SRBF_H_FLOATS, sizeof(float));
+    t->D = sl_calloc(SL_SRBF_DEON_FLOATS, sizeof(float));
     t->from_cache = 0;
     double t0 = sl_now();
     for (int il = 0; il < SL_SRBF_NL; il++)
@@ -406,24 +503,26 @@ void sl_srbf_tables_build(sl_srbf_tables *t) {
     t->build_s_H = sl_now() - t1;
     t->err_H = err;
     double t2 = sl_now();
-    build_W(t->H + SL_SRBF_HK_FLOATS, &t->err_W);
+    build_W(t->H, t->D, &t->err_W, &t->err_D);
+    build_fresnel_fit(t->D + SL_SRBF_DEON_FIT_OFF);
     t->build_s_W = sl_now() - t2;
 }
 
 void sl_srbf_tables_free(sl_srbf_tables *t) {
     free(t->C);
     free(t->H);
-    t->C = t->H = NULL;
+    free(t->D);
+    t->C = t->H = t->D = NULL;
 }
 
 /* ---- disk cache ---- */
 
-#define MAGIC "SLSRBFT2"
+#define MAGIC "SLSRBFT3"
 
 typedef struct cache_head {
     char magic[8];
     uint64_t key, sum;
-    double build_s_C, build_s_H, err_C, err_H, build_s_W, err_W;
+    double build_s_C, build_s_H, err_C, err_H, build_s_W, err_W, err_D;
 } cache_head;
 
 /* Hash of everything that defines the tables' contents. */
@@ -434,23 +533,27 @@ static uint64_t tables_key(void) {
              "lam=[%.9g,%.9g] log, "
              "phi=[0,pi]; H_k TT/TRT exact/schlick NETA=%d NTD=%d eta=[%.9g,%.9g] log, td=[0,pi/2];"
              " GL%d; W TT/TRT NX=%d NL=%d NP=%d nodes=%d lam=[%.9g,..] c-Chebyshev, hist NB=%d"
-             " NS=%d",
+             " NS=%d; d'Eon W p=3..%d same grid, orders interleaved per point; R Fresnel LSQ deg 5"
+             " NETA=%d",
              SL_SRBF_NL, SL_SRBF_NPHI, (double)SL_SRBF_LMIN, (double)SL_SRBF_LMAX, SL_SRBF_NETA,
              SL_SRBF_NTD, (double)SL_SRBF_ETAMIN, (double)SL_SRBF_ETAMAX, NGL, SL_SRBF_W_NX,
-             SL_SRBF_W_NL, SL_SRBF_W_NP, SL_SRBF_W_NODES, (double)SL_SRBF_W_LMIN, W_NB, W_NS);
+             SL_SRBF_W_NL, SL_SRBF_W_NP, SL_SRBF_W_NODES, (double)SL_SRBF_W_LMIN, W_NB, W_NS,
+             SL_SRBF_DEON_MAX_P, SL_SRBF_DEON_FIT_NETA);
     return sl_hash64(def, strlen(def), 0x5352424654424c31ull);
 }
 
 static uint64_t data_sum(const sl_srbf_tables *t) {
     uint64_t h = sl_hash64(t->C, SL_SRBF_C_FLOATS * sizeof(float), 1);
-    return sl_hash64(t->H, SL_SRBF_H_FLOATS * sizeof(float), h);
+    h = sl_hash64(t->H, SL_SRBF_H_FLOATS * sizeof(float), h);
+    return sl_hash64(t->D, SL_SRBF_DEON_FLOATS * sizeof(float), h);
 }
 
 static int try_load(sl_srbf_tables *t, const char *path, uint64_t key) {
     unsigned char *d = NULL;
     size_t n = 0;
     sl_err e2 = {{0}};
-    size_t want = sizeof(cache_head) + (SL_SRBF_C_FLOATS + SL_SRBF_H_FLOATS) * sizeof(float);
+    size_t want = sizeof(cache_head) +
+                  (SL_SRBF_C_FLOATS + SL_SRBF_H_FLOATS + SL_SRBF_DEON_FLOATS) * sizeof(float);
     if (sl_read_file(path, &d, &n, want + 1, &e2)) return -1;
     cache_head h;
     int ok = n == want;
@@ -461,9 +564,12 @@ static int try_load(sl_srbf_tables *t, const char *path, uint64_t key) {
     if (ok) {
         t->C = sl_malloc(SL_SRBF_C_FLOATS * sizeof(float));
         t->H = sl_malloc(SL_SRBF_H_FLOATS * sizeof(float));
+        t->D = sl_malloc(SL_SRBF_DEON_FLOATS * sizeof(float));
         memcpy(t->C, d + sizeof h, SL_SRBF_C_FLOATS * sizeof(float));
         memcpy(t->H, d + sizeof h + SL_SRBF_C_FLOATS * sizeof(float),
                SL_SRBF_H_FLOATS * sizeof(float));
+        memcpy(t->D, d + sizeof h + (SL_SRBF_C_FLOATS + SL_SRBF_H_FLOATS) * sizeof(float),
+               SL_SRBF_DEON_FLOATS * sizeof(float));
         ok = data_sum(t) == h.sum;
         if (!ok) sl_srbf_tables_free(t);
     }
@@ -475,6 +581,7 @@ static int try_load(sl_srbf_tables *t, const char *path, uint64_t key) {
     t->err_H = h.err_H;
     t->build_s_W = h.build_s_W;
     t->err_W = h.err_W;
+    t->err_D = h.err_D;
     t->from_cache = 1;
     return 0;
 }
@@ -497,9 +604,11 @@ static void save(const sl_srbf_tables *t, const char *path, uint64_t key) {
     h.err_H = t->err_H;
     h.build_s_W = t->build_s_W;
     h.err_W = t->err_W;
+    h.err_D = t->err_D;
     int ok = fwrite(&h, sizeof h, 1, af.fp) == 1 &&
              fwrite(t->C, sizeof(float), SL_SRBF_C_FLOATS, af.fp) == SL_SRBF_C_FLOATS &&
-             fwrite(t->H, sizeof(float), SL_SRBF_H_FLOATS, af.fp) == SL_SRBF_H_FLOATS;
+             fwrite(t->H, sizeof(float), SL_SRBF_H_FLOATS, af.fp) == SL_SRBF_H_FLOATS &&
+             fwrite(t->D, sizeof(float), SL_SRBF_DEON_FLOATS, af.fp) == SL_SRBF_DEON_FLOATS;
     if (!ok) {
         sl_atomic_abort(&af);
         sl_warn("srbf tables: not cached: write error on %s", path);
@@ -523,10 +632,11 @@ int sl_srbf_tables_get(sl_srbf_tables *t, int verbose, sl_err *e) {
         sl_note(
             "srbf tables built: C_k %dx%d in %.2f s (max interpolation error %.2g), H_k "
             "2x2x%dx%d in %.2f s (max error %.2g of max H_0), W 2x%dx%dx%d in %.2f s (max error "
-            "%.2g of max W)%s%s",
+            "%.2g of max W; d'Eon slices p=3..%d: %.2g)%s%s",
             SL_SRBF_NL, SL_SRBF_NPHI, t->build_s_C, t->err_C, SL_SRBF_NETA, SL_SRBF_NTD,
             t->build_s_H, t->err_H, SL_SRBF_W_NX, SL_SRBF_W_NL, SL_SRBF_W_NP, t->build_s_W,
-            t->err_W, t->path[0] ? "; cached in " : "; not cached", t->path);
+            t->err_W, SL_SRBF_DEON_MAX_P, t->err_D, t->path[0] ? "; cached in " : "; not cached",
+            t->path);
     if (t->path[0]) save(t, t->path, key);
     return 0;
 }
@@ -535,11 +645,25 @@ int sl_srbf_tables_get(sl_srbf_tables *t, int verbose, sl_err *e) {
 
 int sl_srbf_eval(sl_cl *cl, const sl_material *m, int ch, int xu, int segments, size_t n,
                  const float *in, float *out, sl_err *e) {
-    if (m->model == SL_MODEL_DEON)
-        return sl_fail(e,
-                       "eval: srbf --method %s is not implemented yet for model deon (use "
-                       "--backend reference --method exact)",
-                       xu ? "xu" : "fast");
+    if (m->model == SL_MODEL_DEON) {
+        /* Xu's closed form is a construction for the Marschner model (its C_k/H_k fits and
+         * Gaussian M); d'Eon has the fast path only (docs/srbf.md, "d'Eon fast path") */
+        if (xu)
+            return sl_fail(e, "eval: srbf --method xu is Xu's closed form of the Marschner "
+                              "model; model deon has --method fast (c, opencl) and exact "
+                              "(reference)");
+        sl_srbf_tables t;
+        if (sl_srbf_tables_get(&t, 1, e)) return -1;
+        sl_fiber_params fp;
+        sl_material_to_fiber(m, ch, &fp);
+        int rc = 0;
+        if (cl)
+            rc = slcl_srbf_deon_batch(cl, &fp, &t, n, in, out, e);
+        else
+            slc_srbf_deon_batch(&fp, t.C, t.H, t.D, n, in, out);
+        sl_srbf_tables_free(&t);
+        return rc ? -1 : 0;
+    }
     if (segments == 0) segments = 4;
     if (segments < 1 || segments > SL_SRBF_MAX_SEGMENTS)
         return sl_fail(e, "eval: --segments must be 1..%d (got %d)", SL_SRBF_MAX_SEGMENTS,

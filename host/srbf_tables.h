@@ -5,7 +5,8 @@
  * the srbf dispatch of `eval` to the float backends (cpu/srbf_c.h, host/srbf_cl.h).
  *
  *   sl_srbf_tables t;
- *   if (sl_srbf_tables_get(&t, 1, &e)) ...;   (t.C, t.H: SL_SRBF_C_FLOATS, SL_SRBF_H_FLOATS)
+ *   if (sl_srbf_tables_get(&t, 1, &e)) ...;   (t.C, t.H, t.D: SL_SRBF_C_FLOATS, SL_SRBF_H_FLOATS,
+ *                                              SL_SRBF_DEON_FLOATS of kernels/srbf_deon.h)
  *   ... sl_srbf_tables_free(&t); */
 #ifndef SL_SRBF_TABLES_H
 #define SL_SRBF_TABLES_H
@@ -24,6 +25,9 @@ typedef struct sl_srbf_tables {
     double err_H;     /* the same for H_k, relative to max H_0 */
     double build_s_W; /* the fast path's W table (appended to H, kernels/srbf_xu.h) */
     double err_W;     /* max |trilinear - exact| at cell centres, relative to max |W| */
+    float *D;         /* SL_SRBF_DEON_FLOATS: the d'Eon W slices p = 3..SL_SRBF_DEON_MAX_P
+                       * (kernels/srbf_deon.h; built with W, build_s_W covers both) */
+    double err_D;     /* the same as err_W for the d'Eon slices */
     int from_cache;   /* 1: loaded from the disk cache */
     char path[4096];  /* the cache file ("" when there is no cache directory) */
 } sl_srbf_tables;
@@ -44,10 +48,13 @@ double sl_srbf_H_exact(int schlick, int mode, int k, double eta, double theta_d)
 /* W_i of the fast path (kernels/srbf_xu.h) by a direct quadrature (slow: 0.4 M steps), mode 0 TT
  * / 1 TRT / 2 R, x = 1/eta' (ignored for R). */
 double sl_srbf_W_exact(int mode, int i, double x, double lam, double phi);
+/* The same for any order p (Phi(p, h); p = 0 R, 1 TT, 2 TRT, >= 3 the d'Eon slices). */
+double sl_srbf_W_exact_order(int p, int i, double x, double lam, double phi);
 
 /* `eval srbf` on a float backend: cl == NULL runs the C twin, else OpenCL. xu: 1 for Xu's
  * closed form (segments 1..8, 0 for the default 4), 0 for the fast path. in: 5 floats per row
- * (theta_o, phi_o, theta_j, phi_j, lambda), out: 4 per row (I_R, I_TT, I_TRT, I). */
+ * (theta_o, phi_o, theta_j, phi_j, lambda), out: 4 per row (I_R, I_TT, I_TRT, I); model deon:
+ * orders + 3 per row (I_0..I_orders, I_rest, I), fast path only (xu: an error). */
 int sl_srbf_eval(sl_cl *cl, const sl_material *m, int ch, int xu, int segments, size_t n,
                  const float *in, float *out, sl_err *e);
 

@@ -10,7 +10,13 @@
  * their K - 1 nearest entries and the two farthest are merged into one: the merged opacity is
  * exactly "over" of the two, a = a_n + (1 - a_n) a_f, so the pixel's total coverage is conserved
  * whatever K is; the merged entry keeps the depth, segment and t of its nearer member (it is
- * shaded there: the only approximation, confined to the K-th layer and beyond). */
+ * shaded there: the only approximation, confined to the K-th layer and beyond).
+ *
+ * Occlusion (exact): an entry with a >= 1 (a fully covered pixel of an opaque strand) gets weight
+ * a prod (1 - a_k) and leaves every entry behind it a weight of exactly 0 in sl_kbuffer_weights,
+ * so fragments behind it are dropped and a new fully opaque fragment removes the entries behind
+ * it: the pixel's beauty, alpha and depth are unchanged, there are just fewer entries to merge
+ * and shade (for opaque hair most of the layers behind the first full coverage). */
 #ifndef SL_KBUFFER_H
 #define SL_KBUFFER_H
 
@@ -40,6 +46,8 @@ SL_INLINE float sl_kbuffer_over(float an, float af) {
 /* Inserts f into the n (<= K) entries of buf (sorted nearest first); returns the new count.
  * Returns n + 1 while n < K; at n == K the two farthest of the K + 1 are merged. */
 SL_INLINE int sl_kbuffer_insert(sl_kfrag *buf, int n, int K, sl_kfrag f) {
+    /* occluded: behind a fully opaque entry (only the last can be one, see below) */
+    if (n > 0 && buf[n - 1].a >= 1.0f && !sl_kfrag_before(&f, &buf[n - 1])) return n;
     int i = n;
     if (n < K) {
         while (i > 0 && sl_kfrag_before(&f, &buf[i - 1])) {
@@ -47,7 +55,7 @@ SL_INLINE int sl_kbuffer_insert(sl_kfrag *buf, int n, int K, sl_kfrag f) {
             i--;
         }
         buf[i] = f;
-        return n + 1;
+        return f.a >= 1.0f ? i + 1 : n + 1; /* fully opaque: what lies behind is hidden */
     }
     /* full: the farthest candidate is either f or buf[K-1] */
     if (!sl_kfrag_before(&f, &buf[K - 1])) {
@@ -61,6 +69,7 @@ SL_INLINE int sl_kbuffer_insert(sl_kfrag *buf, int n, int K, sl_kfrag f) {
         i--;
     }
     buf[i] = f;
+    if (f.a >= 1.0f) return i + 1;
     buf[K - 1].a = sl_kbuffer_over(buf[K - 1].a, last.a);
     return n;
 }

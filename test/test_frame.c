@@ -425,3 +425,315 @@ TEST(frame_kbuffer_opencl_equals_c) {
     slc_frag_list_free(&l);
     sl_device_close(&cl);
 }
+
+/* ---- planner audit (issue 9): per-strand sigma_a, material edits, thresholds, occlusion ---- */
+
+static sl_renderer *new_renderer(sl_device *dev, int threads) {
+    sl_render_opts o;
+    sl_render_opts_default(&o);
+    o.threads = threads;
+    o.quiet = 1;
+    sl_renderer *r = malloc(sizeof *r);
+    sl_renderer_init(r, dev, &o);
+    return r;
+}
+
+TEST(frame_paint_reruns_only_shading) {
+    /* per-strand sigma_a (paint): view, light, dual and volume stay cached; lookup and shade
+     * run. Overrides equal to the material's sigma_a give the same frame (1e-5 relative to the
+     * brightest pixel: the per-row absorption path may round differently from the per-material
+     * one); a wrong strand count is a one-line error. */
+    tiny t;
+    CHECK(tiny_setup(&t, 150) == 0);
+    t.s.multiple_scattering = SL_MS_ON;
+    snprintf(t.s.shading_rate, sizeof t.s.shading_rate, "fragment");
+    sl_device dev = {0};
+    sl_err e;
+    CHECK(sl_device_open("c", &dev, &e) == 0);
+    sl_renderer *r = new_renderer(&dev, 2);
+    sl_fbuf a, b;
+    CHECK(render(r, &t, &a) == 0);
+    uint32_t n = t.h.num_strands;
+    float *sa = malloc(3 * n * sizeof *sa);
+    for (uint32_t s = 0; s < n; s++)
+        for (int q = 0; q < 3; q++)
+            sa[3 * s + q] = (float)t.s.material.sigma_a[q];
+    CHECK(sl_renderer_set_strand_sigma_a(r, sa, n, &e) == 0);
+    CHECK(render(r, &t, &b) == 0);
+    CHECK(pass_state(r, "view") == SL_PASS_CACHED);
+    CHECK(pass_state(r, "light") == SL_PASS_CACHED);
+    CHECK(pass_state(r, "dual") == SL_PASS_CACHED);
+    CHECK(pass_state(r, "volume") == SL_PASS_CACHED);
+    CHECK(pass_state(r, "lookup") == SL_PASS_RUN);
+    CHECK(pass_state(r, "shade") == SL_PASS_RUN);
+    double md = 0, mx = 0;
+    for (int i = 0; i < 64 * 48 * 4; i++) {
+        md = fmax(md, fabs(a.rgba[i] - b.rgba[i]));
+        mx = fmax(mx, fabs(a.rgba[i]));
+    }
+    CHECK(mx > 0);
+    CHECK_MSG(md <= 1e-5 * mx, "max diff %g of %g", md, mx);
+    sl_fbuf_free(&b);
+    /* overrides for another hair */
+    CHECK(sl_renderer_set_strand_sigma_a(r, sa, n - 1, &e) == 0);
+    CHECK(sl_renderer_frame(r, &t.s, &t.h, &t.l, &t.cam, &b, &e) == -1);
+    CHECK(strstr(e.msg, "per-strand sigma_a has 149 strands but the hair has 150") != NULL);
+    CHECK(b.rgba == NULL);
+    free(sa);
+    sl_fbuf_free(&a);
+    sl_renderer_free(r);
+    free(r);
+    sl_device_close(&dev);
+    tiny_free(&t);
+}
+
+TEST(frame_paint_half_differs_only_where_painted) {
+    /* strands with an odd index painted black (sigma_a 20): every pixel whose K-buffer entries
+     * all belong to unpainted strands is bit-identical (nothing but their own shading reaches
+     * them: MS uses the material's sigma_a, docs/frame.md); no pixel with a painted entry gets
+     * brighter and most get darker. SKIP while the shading ignores per-strand sigma_a. */
+    tiny t;
+    CHECK(tiny_setup(&t, 150) == 0);
+    t.s.multiple_scattering = SL_MS_ON;
+    snprintf(t.s.shading_rate, sizeof t.s.shading_rate, "fragment");
+    sl_device dev = {0};
+    sl_err e;
+    CHECK(sl_device_open("c", &dev, &e) == 0);
+    sl_renderer *r = new_renderer(&dev, 2);
+    sl_fbuf a, b;
+    CHECK(render(r, &t, &a) == 0);
+    uint32_t n = t.h.num_strands;
+    float *sa = malloc(3 * n * sizeof *sa);
+    for (uint32_t s = 0; s < n; s++)
+        for (int q = 0; q < 3; q++)
+            sa[3 * s + q] = s % 2 ? 20.0f : (float)t.s.material.sigma_a[q];
+    CHECK(sl_renderer_set_strand_sigma_a(r, sa, n, &e) == 0);
+    CHECK(render(r, &t, &b) == 0);
+    uint32_t *strand_of = malloc(t.h.num_points * sizeof *strand_of);
+    for (uint32_t s = 0; s < n; s++)
+        for (uint32_t i = t.h.strand_first[s]; i < t.h.strand_first[s + 1]; i++)
+            strand_of[i] = s;
+    int clean = 0, clean_same = 1, painted_px = 0, darker = 0, brighter = 0, changed = 0;
+    for (int px = 0; px < 64 * 48; px++) {
+        int k = r->kcount[px], painted = 0;
+        for (int i = 0; i < k; i++)
+            painted |= strand_of[r->kbuf[px * r->vK + i].seg] % 2;
+        for (int c = 0; c < 3; c++)
+            changed += a.rgba[4 * px + c] != b.rgba[4 * px + c];
+        double sa_ = a.rgba[4 * px] + a.rgba[4 * px + 1] + a.rgba[4 * px + 2];
+        double sb_ = b.rgba[4 * px] + b.rgba[4 * px + 1] + b.rgba[4 * px + 2];
+        if (!painted) {
+            clean++;
+            clean_same &= memcmp(a.rgba + 4 * px, b.rgba + 4 * px, 4 * sizeof(float)) == 0;
+        } else if (a.rgba[4 * px + 3] > 0.05f) {
+            /* more absorption never brightens (R does not depend on sigma_a, TT and TRT fall);
+             * 1e-6 relative: float rounding of the composite */
+            painted_px++;
+            darker += sb_ < sa_;
+            brighter += sb_ > sa_ * (1 + 1e-6) + 1e-9;
+        }
+    }
+    free(strand_of);
+    free(sa);
+    sl_fbuf_free(&a);
+    sl_fbuf_free(&b);
+    sl_renderer_free(r);
+    free(r);
+    sl_device_close(&dev);
+    tiny_free(&t);
+    if (!changed) {
+        SKIP("host/frame_shade.c does not read per-strand sigma_a yet (srbfspeed's pass)");
+        return;
+    }
+    CHECK_MSG(clean > 100 && painted_px > 100, "clean %d, painted %d", clean, painted_px);
+    CHECK(clean_same);
+    CHECK_MSG(brighter == 0, "%d painted pixels brighter", brighter);
+    CHECK_MSG(darker > painted_px / 2, "%d of %d painted pixels darker", darker, painted_px);
+}
+
+TEST(frame_material_edits_rerun_only_what_reads_them) {
+    /* issue 9: editing beta_R re-runs only shading and the dual-scattering tables (and the
+     * march that reads them; the voxel grid is reused); editing sigma_a never re-rasterizes
+     * (view and light cached). */
+    tiny t;
+    CHECK(tiny_setup(&t, 150) == 0);
+    t.s.multiple_scattering = SL_MS_ON;
+    sl_device dev = {0};
+    sl_err e;
+    CHECK(sl_device_open("c", &dev, &e) == 0);
+    sl_renderer *r = new_renderer(&dev, 2);
+    sl_fbuf a;
+    CHECK(render(r, &t, &a) == 0);
+    sl_fbuf_free(&a);
+    CHECK(pass_state(r, "dual") == SL_PASS_RUN);
+    t.s.material.beta[0] *= 1.5;
+    CHECK(render(r, &t, &a) == 0);
+    sl_fbuf_free(&a);
+    CHECK(pass_state(r, "light") == SL_PASS_CACHED);
+    CHECK(pass_state(r, "view") == SL_PASS_CACHED);
+    CHECK(pass_state(r, "dual") == SL_PASS_RUN);
+    CHECK(pass_state(r, "volume") == SL_PASS_RUN);
+    const sl_pass_rec *v = sl_renderer_pass(r, "volume");
+    CHECK(v && strstr(v->why, "grid reused") != NULL);
+    CHECK(pass_state(r, "shade") == SL_PASS_RUN);
+    t.s.material.sigma_a[1] = 1.3;
+    CHECK(render(r, &t, &a) == 0);
+    sl_fbuf_free(&a);
+    CHECK(pass_state(r, "light") == SL_PASS_CACHED);
+    CHECK(pass_state(r, "view") == SL_PASS_CACHED);
+    /* nothing changed: only shading runs again */
+    CHECK(render(r, &t, &a) == 0);
+    sl_fbuf_free(&a);
+    CHECK(pass_state(r, "dual") == SL_PASS_CACHED);
+    CHECK(pass_state(r, "volume") == SL_PASS_CACHED);
+    /* MS skipped: no dual tables either */
+    t.s.multiple_scattering = SL_MS_OFF;
+    CHECK(render(r, &t, &a) == 0);
+    sl_fbuf_free(&a);
+    CHECK(pass_state(r, "dual") == SL_PASS_SKIPPED);
+    sl_renderer_free(r);
+    free(r);
+    sl_device_close(&dev);
+    tiny_free(&t);
+}
+
+TEST(frame_threshold_keys_drive_the_planner) {
+    /* quality.lobe_threshold: 0.2 leaves out the lobes below 20 % of the power (the 4 tiny
+     * lobes' shares, luminance x pi lambda^2 (1 - exp(-4 / lambda^2)) in double: 0.063, 0.033,
+     * 0.311, 0.592, so two go); quality.ms_auto_threshold 0 runs
+     * MS for black hair, 1 skips it for white hair; quality.point_threshold 0.9 cuts the lobes
+     * evaluated per point (lobes AOV) unless the shading ignores it (SKIP). */
+    tiny t;
+    CHECK(tiny_setup(&t, 100) == 0);
+    sl_device dev = {0};
+    sl_err e;
+    CHECK(sl_device_open("c", &dev, &e) == 0);
+    sl_renderer *r = new_renderer(&dev, 2);
+    sl_fbuf a;
+    t.s.lobe_threshold = 0.2;
+    CHECK(render(r, &t, &a) == 0);
+    sl_fbuf_free(&a);
+    CHECK(pass_state(r, "lobes") == SL_PASS_SKIPPED);
+    CHECK(r->lobes_used == 2);
+    const sl_pass_rec *p = sl_renderer_pass(r, "lobes");
+    CHECK(p && strstr(p->why, "quality.lobe_threshold") != NULL);
+    t.s.lobe_threshold = 1e-3;
+    for (int c = 0; c < 3; c++)
+        t.s.material.sigma_a[c] = 8.0;
+    t.s.ms_auto_threshold = 0;
+    CHECK(render(r, &t, &a) == 0);
+    sl_fbuf_free(&a);
+    CHECK(pass_state(r, "ms") == SL_PASS_RUN);
+    for (int c = 0; c < 3; c++)
+        t.s.material.sigma_a[c] = 0.0;
+    t.s.ms_auto_threshold = 1;
+    CHECK(render(r, &t, &a) == 0);
+    CHECK(pass_state(r, "ms") == SL_PASS_SKIPPED);
+    p = sl_renderer_pass(r, "ms");
+    CHECK(p && strstr(p->why, "quality.ms_auto_threshold") != NULL);
+    double l0 = 0, l1 = 0;
+    for (int i = 0; i < 64 * 48; i++)
+        l0 += a.lobes[i];
+    sl_fbuf_free(&a);
+    t.s.point_threshold = 0.9;
+    CHECK(render(r, &t, &a) == 0);
+    for (int i = 0; i < 64 * 48; i++)
+        l1 += a.lobes[i];
+    sl_fbuf_free(&a);
+    sl_renderer_free(r);
+    free(r);
+    sl_device_close(&dev);
+    tiny_free(&t);
+    CHECK(l0 > 0);
+    if (l1 == l0) {
+        SKIP("host/frame_shade.c does not read sl_shade_ctx.point_threshold yet");
+        return;
+    }
+    CHECK(l1 < l0);
+}
+
+TEST(frame_kbuffer_occlusion_exact) {
+    /* Fragments with a = 1 (full coverage of an opaque strand) hide what lies behind: the
+     * K-buffer keeps nothing behind them, and the composite of every pixel (alpha and a colour
+     * that is a function of the segment) equals the exact front-to-back composite of ALL its
+     * fragments computed in double (K = 64 > fragments per pixel: no merge). 1e-5 absolute:
+     * float weights of <= 30 layers. */
+    uint32_t s = 5;
+    slc_frag_list l = {0};
+    for (uint32_t i = 0; i < 200; i++) {
+        double p0[3] = {(lcg(&s) % 2000) / 100.0, (lcg(&s) % 1500) / 100.0, 1 + (lcg(&s) % 100)};
+        double p1[3] = {p0[0] + (double)(lcg(&s) % 800) / 100.0 - 4,
+                        p0[1] + (double)(lcg(&s) % 800) / 100.0 - 4, 1 + (lcg(&s) % 100)};
+        float op = i % 3 ? 1.0f : 0.6f; /* two thirds opaque */
+        slc_view_segment(p0, p1, 0.2 + (lcg(&s) % 200) / 100.0, op, op, i, 20, 15, &l);
+    }
+    enum { W = 20, H = 15, K = 64 };
+    sl_kfrag *kb = calloc(W * H * K, sizeof *kb);
+    uint8_t cnt[W * H];
+    slc_kbuffer_build(&l, W, H, K, kb, cnt, 2);
+    int hidden_pixels = 0, maxn = 0;
+    double maxerr = 0;
+    for (int p = 0; p < W * H; p++) {
+        /* reference: every fragment of the pixel, sorted by (z, seg, t), composited in double */
+        sl_kfrag all[256];
+        int m = 0;
+        for (size_t i = 0; i < l.n && m < 256; i++)
+            if (l.pix[i] == (uint32_t)p) all[m++] = l.f[i];
+        for (int i = 1; i < m; i++)
+            for (int j = i; j > 0 && sl_kfrag_before(&all[j], &all[j - 1]); j--) {
+                sl_kfrag x = all[j];
+                all[j] = all[j - 1], all[j - 1] = x;
+            }
+        double T = 1, ref_a = 0, ref_c = 0;
+        for (int i = 0; i < m; i++) {
+            ref_a += T * all[i].a;
+            ref_c += T * all[i].a * (double)(all[i].seg % 7);
+            T *= 1 - (double)all[i].a;
+        }
+        float w[K];
+        int n = cnt[p];
+        float al = sl_kbuffer_weights(kb + p * K, n, w);
+        double c = 0;
+        for (int i = 0; i < n; i++)
+            c += w[i] * (double)(kb[p * K + i].seg % 7);
+        maxerr = fmax(maxerr, fmax(fabs(al - ref_a), fabs(c - ref_c)));
+        hidden_pixels += n < m;
+        if (m > maxn) maxn = m;
+        for (int i = 0; i + 1 < n; i++) /* only the last entry may be fully opaque */
+            CHECK(kb[p * K + i].a < 1.0f);
+    }
+    CHECK(maxn < K);
+    CHECK_MSG(hidden_pixels > 20, "%d pixels lost hidden fragments", hidden_pixels);
+    CHECK_MSG(maxerr <= 1e-5, "max error %g", maxerr);
+    free(kb);
+    slc_frag_list_free(&l);
+}
+
+TEST(frame_estimate_covers_allocations) {
+    /* sl_frame_estimate_bytes >= what the frame really holds after a frame with MS (K-buffer,
+     * counts, frame buffer, deep opacity maps, voxel grid), and not absurdly more (< 4x: the
+     * shading points are counted at their fragment-rate maximum) */
+    tiny t;
+    CHECK(tiny_setup(&t, 150) == 0);
+    t.s.multiple_scattering = SL_MS_ON;
+    t.s.voxels = 16;
+    t.s.lobes = t.l.count;
+    sl_device dev = {0};
+    sl_err e;
+    CHECK(sl_device_open("c", &dev, &e) == 0);
+    sl_renderer *r = new_renderer(&dev, 2);
+    sl_fbuf a;
+    CHECK(render(r, &t, &a) == 0);
+    double held = (double)r->vw * r->vh * (r->vK * sizeof(sl_kfrag) + 1) +
+                  (double)a.width * a.height * SL_FBUF_FLOATS * sizeof(float);
+    for (int j = 0; j < r->nlights; j++)
+        held += (double)r->light[j].view.w * r->light[j].view.h * (4.0 + 8.0 * r->light[j].K);
+    held += (double)r->vgrid.n[0] * r->vgrid.n[1] * r->vgrid.n[2] * 4.0 * 6;
+    double est = (double)sl_frame_estimate_bytes(&t.s, 0);
+    CHECK_MSG(est >= held && est < 4 * held, "estimate %.0f, held %.0f", est, held);
+    sl_fbuf_free(&a);
+    sl_renderer_free(r);
+    free(r);
+    sl_device_close(&dev);
+    tiny_free(&t);
+}

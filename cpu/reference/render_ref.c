@@ -133,6 +133,12 @@ static void ms_integral(const sl_material *m, const slref_ms_tables *t, int nch,
 
 void slref_shade(const slref_shading *sh, const double x[3], const double wo[3], uint32_t prim,
                  double ss[3], double ms[3], double modes[9]) {
+    slref_shade_lights(sh, x, wo, prim, 0, 1, ss, ms, modes);
+}
+
+void slref_shade_lights(const slref_shading *sh, const double x[3], const double wo[3],
+                        uint32_t prim, int l0, int stride, double ss[3], double ms[3],
+                        double modes[9]) {
     const sl_material *m = sh->m;
     double u[3], v[3], w[3], to, po;
     uint32_t strand, seg;
@@ -146,7 +152,8 @@ void slref_shade(const slref_shading *sh, const double x[3], const double wo[3],
         for (int k = 0; k < 9; k++)
             modes[k] = 0;
     uint32_t cross[MAX_CROSS];
-    for (int l = 0; l < sh->nl; l++) {
+    if (stride < 1) stride = 1;
+    for (int l = l0 < 0 ? 0 : l0; l < sh->nl; l += stride) {
         const slref_light *L = &sh->L[l];
         if (L->rgb[0] <= 0 && L->rgb[1] <= 0 && L->rgb[2] <= 0) continue;
         double ti, pi_;
@@ -241,6 +248,7 @@ typedef struct render_job {
     const slref_shading *sh;
     const sl_camera *cam;
     const slref_render_opts *o;
+    int light_split;
     slref_image *img;
     atomic_int next_row, rows_done;
 } render_job;
@@ -250,7 +258,11 @@ static void render_pixel(const render_job *j, int px, int py) {
     int aa = j->o->aa, W = cam->width;
     uint64_t st = j->o->seed ^ (0xd1b54a32d192ed03ull * (uint64_t)((size_t)py * W + px + 1));
     double acc[3] = {0, 0, 0}, accm[3] = {0, 0, 0}, accd[9] = {0}, depth = INFINITY;
-    int hits = 0;
+    int hits = 0, S = aa * aa, split = j->light_split && S > 1;
+    /* light_split: a random rotation of which ray shades which light subset, per pixel, from
+     * its own stream so that the camera rays are the same with and without the split */
+    uint64_t st_rot = st ^ 0x5851f42d4c957f2dull;
+    int rot = split ? (int)(mix(&st_rot) % (uint64_t)S) : 0;
     for (int sy = 0; sy < aa; sy++)
         for (int sx = 0; sx < aa; sx++) {
             double jx = j->o->no_jitter ? 0.5 : unit(&st), jy = j->o->no_jitter ? 0.5 : unit(&st);
@@ -264,7 +276,15 @@ static void render_pixel(const render_job *j, int px, int py) {
                 x[k] = cam->eye[k] + hit.t * d[k], wo[k] = -d[k];
             double z = hit.t * dot3(d, cam->fwd);
             if (z < depth) depth = z;
-            slref_shade(j->sh, x, wo, hit.prim, ss, ms, md);
+            if (split) {
+                slref_shade_lights(j->sh, x, wo, hit.prim, (sy * aa + sx + rot) % S, S, ss, ms, md);
+                for (int k = 0; k < 9; k++)
+                    md[k] *= S;
+                for (int k = 0; k < 3; k++)
+                    ss[k] *= S, ms[k] *= S;
+            } else {
+                slref_shade(j->sh, x, wo, hit.prim, ss, ms, md);
+            }
             for (int k = 0; k < 9; k++)
                 accd[k] += md[k];
             for (int k = 0; k < 3; k++)
@@ -295,6 +315,11 @@ static void *render_thread(void *arg) {
 
 int slref_render(const slref_shading *sh, const sl_camera *cam, const slref_render_opts *o,
                  slref_image *out, sl_err *e) {
+    return slref_render_split(sh, cam, o, 0, out, e);
+}
+
+int slref_render_split(const slref_shading *sh, const sl_camera *cam, const slref_render_opts *o,
+                       int light_split, slref_image *out, sl_err *e) {
     memset(out, 0, sizeof *out);
     if (cam->width < 1 || cam->height < 1 || o->aa < 1)
         return sl_fail(e, "reference: bad image size or sampling (%dx%d, aa %d)", cam->width,
@@ -305,7 +330,7 @@ int slref_render(const slref_shading *sh, const sl_camera *cam, const slref_rend
     out->depth = sl_malloc(n * sizeof(float));
     out->ms_rgb = sl_calloc(3 * n, sizeof(float));
     out->mode_rgb = sl_calloc(9 * n, sizeof(float));
-    render_job j = {.sh = sh, .cam = cam, .o = o, .img = out};
+    render_job j = {.sh = sh, .cam = cam, .o = o, .light_split = light_split, .img = out};
     atomic_init(&j.next_row, 0);
     atomic_init(&j.rows_done, 0);
     int threads = o->threads < 1 ? 1 : (o->threads > 256 ? 256 : o->threads);

@@ -56,6 +56,11 @@ void slref_fiber_frame(const double u[3], double v[3], double w[3]);
  * = single scattering by mode: modes[3 t + c] for t = R, TT, TRT (d'Eon: orders 0, 1, 2). */
 void slref_shade(const slref_shading *sh, const double x[3], const double wo[3], uint32_t prim,
                  double ss[3], double ms[3], double modes[9]);
+/* The same over the lights l0, l0 + stride, l0 + 2 stride, ... only (stride >= 1; not scaled):
+ * interleaved light subsets, one per camera ray of a pixel (slref_render_opts.light_split). */
+void slref_shade_lights(const slref_shading *sh, const double x[3], const double wo[3],
+                        uint32_t prim, int l0, int stride, double ss[3], double ms[3],
+                        double modes[9]);
 
 typedef struct slref_render_opts {
     int aa;        /* aa x aa camera rays per pixel (>= 1), one per sub-pixel stratum */
@@ -80,6 +85,16 @@ typedef struct slref_image {
 
 int slref_render(const slref_shading *sh, const sl_camera *cam, const slref_render_opts *o,
                  slref_image *out, sl_err *e);
+/* slref_render with light_split = 1: interleaved light subsets. The S = aa x aa camera rays of
+ * a pixel share the N lights: ray r (after a random per-pixel rotation) shades lights
+ * l = r, r + S, r + 2S, ... with weight S, so a pixel costs about N shadings whatever aa is.
+ * Unbiased against the image with every light on every ray (each light is shaded once per
+ * pixel, at a random one of the pixel's jittered rays); it trades the light cut's
+ * stratification within one ray for many more camera rays, which is where the error of a hair
+ * image at low resolution is (many fibers per pixel, each lit and shadowed differently:
+ * docs/reference.md). light_split = 0 is slref_render. */
+int slref_render_split(const slref_shading *sh, const sl_camera *cam, const slref_render_opts *o,
+                       int light_split, slref_image *out, sl_err *e);
 void slref_image_free(slref_image *img);
 
 /* The camera ray through pixel position (px, py) (pixel centres at +0.5, camera.h): unit dir. */

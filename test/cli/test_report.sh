@@ -1,10 +1,10 @@
 # test_report.sh: `strandlight report SCENE.json --quick --tiny` end to end on a small scene
 # (300 procedural strands, the repository's city map fitted with 8 lobes, 48 px wide, reference
-# 8 lights aa 1): the report directory holds results.csv, report.md and error_vs_time.svg, the
-# CSV has the documented columns and the reference row, every error is finite, a second run
-# reuses the cached reference (same reference time), nothing temporary is left, and a bad scene
-# gives a one-line error and no report directory. The error metric itself is checked by
-# unit_tests reference_ (sl_image_error).
+# 8 lights aa 2 with the light split): the report directory holds results.csv, report.md and
+# error_vs_time.svg (rel_rmse_4x4 column included), the CSV has the documented columns and the
+# reference row, every error is finite, a second run reuses the cached reference (same
+# reference time), nothing temporary is left, and a bad scene gives a one-line error and no
+# report directory. The error metric itself is checked by unit_tests reference_ (sl_image_error).
 . test/cli/lib.sh
 D="$TMP/report"
 rm -rf "$D"
@@ -32,7 +32,7 @@ if run "$D/small.json" --quick --tiny -o "$D/out/small" --threads 2 --device non
     # header: the columns the issue asks for, by name
     hdr=$(head -1 "$csv")
     ok=1
-    for c in backend lobes layers m kappa voxels ms time_s rel_rmse p99_rel_err rel_rmse_R rel_rmse_TT rel_rmse_TRT rel_rmse_MS; do
+    for c in backend lobes layers m kappa voxels ms time_s rel_rmse p99_rel_err rel_rmse_4x4 rel_rmse_R rel_rmse_TT rel_rmse_TRT rel_rmse_MS; do
         printf '%s\n' "$hdr" | tr ',' '\n' | grep -qx "$c" || { fail report_csv_columns "no column $c in: $hdr"; ok=0; }
     done
     [ "$ok" = 1 ] && pass report_csv_columns
@@ -40,7 +40,7 @@ if run "$D/small.json" --quick --tiny -o "$D/out/small" --threads 2 --device non
     # finite and >= 0 (awk: a number matches the regex; nan/inf/empty do not)
     awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
         { rows++; if ($col["backend"] == "reference") ref++
-          for (k = 0; k < 3; k++) { n = (k == 0 ? "time_s" : k == 1 ? "rel_rmse" : "p99_rel_err")
+          for (k = 0; k < 4; k++) { n = (k == 0 ? "time_s" : k == 1 ? "rel_rmse" : k == 2 ? "p99_rel_err" : "rel_rmse_4x4")
               v = $col[n]; if (v !~ /^[0-9.]+(e[-+]?[0-9]+)?$/) bad = bad " " NR ":" n "=" v } }
         END { if (ref != 1) { print "reference rows: " ref; exit 1 }
               if (rows < 5) { print "rows: " rows; exit 1 }

@@ -31,8 +31,8 @@ expect_usage_srbf() {
 expect_usage_srbf srbf_xu_on_reference "method exact only" --backend reference --method xu
 expect_usage_srbf srbf_exact_on_c "needs --backend reference" --backend c --method exact
 expect_usage_srbf srbf_segments_range "--segments" --method xu --segments 9
-expect_error srbf_deon_fast "not implemented yet for model deon" \
-    sh -c "'$SL' eval srbf --material '$D/deon.json' < '$D/one.csv'"
+# model deon has a fast path (docs/srbf.md; accuracy in test/cli/test_srbf_deon.sh)
+expect_ok srbf_deon_fast sh -c "'$SL' eval srbf --material '$D/deon.json' < '$D/one.csv'"
 printf 'theta_o,phi_o,theta_j,phi_j,lambda\n0.3,0.5,0.2,0.4,0\n' > "$D/bad.csv"
 expect_error srbf_lambda_positive "lambda: must be > 0" \
     sh -c "'$SL' eval srbf --backend reference < '$D/bad.csv'"

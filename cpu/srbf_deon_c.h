@@ -1,0 +1,24 @@
+/* srbf_deon_c.h: batch driver of the C twin (float) for the d'Eon model's fast SRBF response
+ * (`eval srbf --method fast` on the c backend with `model: deon`): runs kernels/srbf_deon.h row
+ * by row, the same code as kernels/srbf_deon_eval.cl, so C and OpenCL agree to float rounding. */
+#ifndef SL_SRBF_DEON_C_H
+#define SL_SRBF_DEON_C_H
+
+#include <stddef.h>
+
+#include "fiber_params.h"
+
+/* in: 5 floats per row (theta_o, phi_o, theta_j, phi_j, lambda); out: orders + 3 per row
+ * (I_0..I_orders, I_rest, I; orders = fp->orders, at most SL_DEON_MAX_ORDERS). C, H, D: the
+ * tables of host/srbf_tables.h (t.C, t.H, t.D). */
+void slc_srbf_deon_batch(const sl_fiber_params *fp, const float *C, const float *H, const float *D,
+                         size_t n, const float *in, float *out);
+
+/* The renderer's batch (the shape of slc_srbf_rgb_batch, cpu/srbf_c.h): in as above; sigma_a 3
+ * floats per row (r, g, b) or NULL for fp->sigma_a; out 9 per row: I_0 rgb, I_1 rgb, and the
+ * sum of orders >= 2 and the rest term rgb (the R, TT, TRT slots of the Marschner rows). */
+void slc_srbf_deon_rgb_batch(const sl_fiber_params *fp, const float *C, const float *H,
+                             const float *D, size_t n, const float *in, const float *sigma_a,
+                             float *out);
+
+#endif

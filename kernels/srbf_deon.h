@@ -1,0 +1,339 @@
+/* srbf_deon.h: the fast SRBF response of the d'Eon model (`eval srbf --method fast` with
+ * `model: deon`), float, shared by the C twin (cpu/srbf_deon_c.c) and OpenCL
+ * (kernels/srbf_deon_eval.cl). Derivation and measurements: docs/srbf.md, "d'Eon fast path".
+ *
+ *   I_p = int cos ti G_th(ti) M_p(v_p, ti, to - 2 alpha_p) N'_p(ti) d ti
+ *   N'_p = int G_ph(phi_i) N_p(phi_o - phi_i) d phi_i                    (Xu 2011 appendix A)
+ *
+ * with G = G_th G_ph the exact split of the SRBF (G_ph a von Mises of concentration
+ * kappa = 2 cos ti cos tj / lambda^2) and d'Eon's M_p (Eq. 7) and N_p (Eq. 10-11):
+ *  - azimuth: N_p = 1/2 int A_p(h) D_beta(phi - Phi(p, h)) dh, so N'_p is the W product
+ *    quadrature of kernels/srbf_fast.h (A_p at 4 Chebyshev nodes in c = cos gamma_i, exactly
+ *    convolved weights per 1/eta', width and phi) with the detector folded into the width:
+ *    lambda3^2 = lambda'^2 + 2 beta_p^2 (variances add: a von Mises of concentration 2/l^2 has
+ *    variance l^2/2, the detector beta^2). R keeps Xu's exact C_k expansion for Schlick's part
+ *    and the exact Fresnel's residual through W, as the Marschner fast path does. Orders 1, 2
+ *    read the W slices of TT and TRT, orders 3..SL_SRBF_DEON_MAX_P the extra slices D built by
+ *    host/srbf_tables.c; orders above that and the rest term have a uniform azimuth (exact
+ *    for the rest term; for p > SL_SRBF_DEON_MAX_P an approximation, see docs/srbf.md).
+ *  - longitudinal: G_th M_p = K exp(a cos ti + b sin ti) i0e(cos ti cos to' / v) exactly, a von
+ *    Mises lobe in ti of centre atan2(b, a) and concentration |(a, b)|: 8 Gauss-Legendre nodes
+ *    on centre +- 3.5 / sqrt(|(a, b)|) clipped to [-pi/2, pi/2], G_th M_p (log space) and
+ *    z = int G_ph = 2 pi i0e(kappa) exact at the nodes, the smooth normalised azimuthal factor
+ *    N'_p / z at the 3 Gauss points of the same interval, interpolated by its quadratic. Orders
+ *    >= 2 and the rest term share TRT's lobe (alpha, beta), hence its nodes and its Fresnel /
+ *    absorption evaluations.
+ *  - R's Fresnel: a least-squares degree-5 polynomial per eta (table in D) instead of Schlick's
+ *    in the exact C_k expansion, the residual through W. */
+#ifndef SL_SRBF_DEON_H
+#define SL_SRBF_DEON_H
+
+#include "fiber_deon.h"
+#include "srbf_fast.h"
+
+/* Highest order with its own W slice; p = 3..SL_SRBF_DEON_MAX_P live in the D buffer,
+ * [ix][il][ip][p - 3][node] with the grid of the TT / TRT slices (kernels/srbf_xu.h): the orders
+ * of one grid point are contiguous, so one lookup of all orders touches 4 x 2 cache-line runs
+ * instead of 4 per order (the lookups are memory-bound). */
+#define SL_SRBF_DEON_MAX_P 8
+#define SL_SRBF_DEON_NORD (SL_SRBF_DEON_MAX_P - 2)
+#define SL_SRBF_DEON_CELL (SL_SRBF_DEON_NORD * SL_SRBF_W_NODES) /* floats per grid point */
+#define SL_SRBF_DEON_SLICE (SL_SRBF_W_NX * SL_SRBF_W_NL * SL_SRBF_W_NP * SL_SRBF_W_NODES)
+/* Then R's Fresnel fit: per eta (SL_SRBF_DEON_FIT_NETA, log-uniform in [SL_SRBF_ETAMIN,
+ * SL_SRBF_ETAMAX]) the 6 coefficients (+ 2 pad) of the least-squares degree-5 polynomial in
+ * x = cos i on [0, 1] of the exact Fresnel F(eta, x); it replaces Schlick's polynomial in Xu's
+ * C_k expansion, so the residual left to the 4-node W rule is 4x smaller (eta 1.55: max 0.008
+ * against Schlick's 0.033; the residual is steep at grazing, where 4 nodes in c cannot follow). */
+#define SL_SRBF_DEON_FIT_NETA 128
+#define SL_SRBF_DEON_FIT_OFF (SL_SRBF_DEON_NORD * SL_SRBF_DEON_SLICE)
+#define SL_SRBF_DEON_FLOATS (SL_SRBF_DEON_FIT_OFF + SL_SRBF_DEON_FIT_NETA * 8)
+/* Outputs per row: I_0..I_orders, I_rest, I. */
+#define SL_SRBF_DEON_NOUT (SL_DEON_MAX_ORDERS + 3)
+
+/* U_i = omega_i / (2 pi), omega_i = int_0^{pi/2} L_i(cos u) cos u du = 1/2 int L_i(c(h)) dh:
+ * the W weights of a uniform azimuth (lambda -> infinity), so E = sum A(c_i) omega_i is the
+ * product rule for the energy 1/2 int A dh (test/test_srbf_deon.c checks them by quadrature). */
+#define SL_SRBF_DEON_U                                                                             \
+    {                                                                                              \
+        0.00659695314057874f / 6.28318530717958648f, 0.116919608856975f / 6.28318530717958648f,    \
+            0.347620381786066f / 6.28318530717958648f, 0.528863056218942f / 6.28318530717958648f   \
+    }
+/* The uniform-azimuth limit of the normalised C_k (k = 0..6): the mean of |cos(x/2)|^k,
+ * (1/pi) int_{-pi/2}^{pi/2} cos^k y dy. */
+#define SL_SRBF_DEON_CU                                                                            \
+    { 1.0f, 0.636619772367581f, 0.5f, 0.424413181578388f, 0.375f, 0.339530545262710f, 0.3125f }
+/* 8-point Gauss-Legendre (outer rule) and the 3-point Gauss abscissae (azimuthal factor). */
+#define SL_SRBF_DEON_GLX                                                                           \
+    {                                                                                              \
+        -0.960289856497536f, -0.796666477413627f, -0.525532409916329f, -0.183434642495650f,        \
+            0.183434642495650f, 0.525532409916329f, 0.796666477413627f, 0.960289856497536f         \
+    }
+#define SL_SRBF_DEON_GLW                                                                           \
+    {                                                                                              \
+        0.101228536290376f, 0.222381034453374f, 0.313706645877887f, 0.362683783378362f,            \
+            0.362683783378362f, 0.313706645877887f, 0.222381034453374f, 0.101228536290376f         \
+    }
+#define SL_SRBF_DEON_Q3 0.774596669241483f /* sqrt(3/5) */
+#if SL_OPENCL
+static __constant float sl_srbf_deon_u[SL_SRBF_W_NODES] = SL_SRBF_DEON_U;
+static __constant float sl_srbf_deon_cu[7] = SL_SRBF_DEON_CU;
+static __constant float sl_srbf_deon_glx[8] = SL_SRBF_DEON_GLX;
+static __constant float sl_srbf_deon_glw[8] = SL_SRBF_DEON_GLW;
+#else
+static const float sl_srbf_deon_u[SL_SRBF_W_NODES] = SL_SRBF_DEON_U;
+static const float sl_srbf_deon_cu[7] = SL_SRBF_DEON_CU;
+static const float sl_srbf_deon_glx[8] = SL_SRBF_DEON_GLX;
+static const float sl_srbf_deon_glw[8] = SL_SRBF_DEON_GLW;
+#endif
+
+/* Beyond the tables' widest lobe (SL_SRBF_LMAX): a normalised circular Gaussian of
+ * concentration k has harmonics I_n(k)/I_0(k) ~ k/2 for n = 1 and O(k^2) above, so the
+ * smoothed function at width l > LMAX is the uniform mean plus (LMAX/l)^2 of the deviation at
+ * LMAX (exact as l -> infinity, i.e. at the poles, where kappa = 0). Returns that factor. */
+SL_INLINE float sl_srbf_deon_wide(float lam) {
+    return lam > SL_SRBF_LMAX ? (SL_SRBF_LMAX / lam) * (SL_SRBF_LMAX / lam) : 1.0f;
+}
+
+/* The trilinear cell of one (1/eta', width, |phi|) point in a W slice (grid of kernels/srbf_xu.h);
+ * every slice p >= 3 shares it. */
+typedef struct sl_srbf_deon_cell {
+    int off;
+    float fx, fl, fp;
+} sl_srbf_deon_cell;
+
+SL_INLINE void sl_srbf_deon_cell_init(float x, float lam, float phi, sl_srbf_deon_cell *c) {
+    int ix, il, ip;
+    c->fx = sl_srbf_grid(x, 0.0f, 1.0f, SL_SRBF_W_NX, &ix);
+    c->fl = sl_srbf_grid(log(sl_maxf(lam, 1e-30f)), log(SL_SRBF_W_LMIN), log(SL_SRBF_LMAX),
+                         SL_SRBF_W_NL, &il);
+    c->fp = sl_srbf_grid(fabs(phi), 0.0f, SL_PI_F, SL_SRBF_W_NP, &ip);
+    c->off = ((ix * SL_SRBF_W_NL + il) * SL_SRBF_W_NP + ip) * SL_SRBF_DEON_CELL;
+}
+
+/* sum_i A_i W_i of order p (3..SL_SRBF_DEON_MAX_P) at the cell (trilinear of the dot product:
+ * it is linear). */
+SL_INLINE float sl_srbf_deon_cell_dot(SL_GLOBAL const float *D, int p, const sl_srbf_deon_cell *c,
+                                      const float A[SL_SRBF_W_NODES]) {
+    const int sp = SL_SRBF_DEON_CELL, sl = SL_SRBF_W_NP * SL_SRBF_DEON_CELL,
+              sx = SL_SRBF_W_NL * SL_SRBF_W_NP * SL_SRBF_DEON_CELL;
+    SL_GLOBAL const float *b = D + c->off + (p - 3) * SL_SRBF_W_NODES;
+    float v[8];
+    for (int j = 0; j < 8; j++) {
+        SL_GLOBAL const float *q = b + ((j & 1) ? sp : 0) + ((j & 2) ? sl : 0) + ((j & 4) ? sx : 0);
+        float s = 0.0f;
+        for (int k = 0; k < SL_SRBF_W_NODES; k++)
+            s += A[k] * q[k];
+        v[j] = s;
+    }
+    float a00 = v[0] + (v[1] - v[0]) * c->fp, a01 = v[2] + (v[3] - v[2]) * c->fp;
+    float a10 = v[4] + (v[5] - v[4]) * c->fp, a11 = v[6] + (v[7] - v[6]) * c->fp;
+    float a0 = a00 + (a01 - a00) * c->fl, a1 = a10 + (a11 - a10) * c->fl;
+    return a0 + (a1 - a0) * c->fx;
+}
+
+/* The Fresnel fit's coefficients a_0..a_5 at eta (linear in log eta). */
+SL_INLINE void sl_srbf_deon_fit(SL_GLOBAL const float *D, float eta, float a[6]) {
+    int ie;
+    float fe = sl_srbf_grid(log(sl_maxf(eta, 1e-30f)), log(SL_SRBF_ETAMIN), log(SL_SRBF_ETAMAX),
+                            SL_SRBF_DEON_FIT_NETA, &ie);
+    SL_GLOBAL const float *b = D + SL_SRBF_DEON_FIT_OFF + ie * 8;
+    for (int k = 0; k < 6; k++)
+        a[k] = b[k] + (b[k + 8] - b[k]) * fe;
+}
+
+/* sum_i A_i W_i of the Marschner fast path's slices (mode 0 TT, 1 TRT, 2 R; kernels/srbf_fast.h)
+ * at width lam, with the wide-lobe limit above SL_SRBF_LMAX. */
+SL_INLINE float sl_srbf_deon_W3(SL_GLOBAL const float *H, int mode, float x, float lam, float phi,
+                                const float A[SL_SRBF_W_NODES]) {
+    float W[SL_SRBF_W_NODES], t = sl_srbf_deon_wide(lam), s = 0.0f;
+    sl_srbf_W(H, mode, x, lam, phi, W);
+    for (int i = 0; i < SL_SRBF_W_NODES; i++)
+        s += A[i] * (sl_srbf_deon_u[i] + t * (W[i] - sl_srbf_deon_u[i]));
+    return s;
+}
+
+/* The azimuthal factors N'_p / z (z = int G_ph = 2 pi i0e(kappa), applied by the caller) at one
+ * theta_i for lobe group g: g = 0 writes az[0] (R), g = 1 az[0] (TT), g = 2 az[0..n-2] (orders
+ * 2..n) and az[n-1] (the rest term). kappa: the von Mises concentration of G_ph at ti. */
+SL_INLINE void sl_srbf_deon_az(const sl_fiber_params *fp, SL_GLOBAL const float *C,
+                               SL_GLOBAL const float *H, SL_GLOBAL const float *D, float theta_o,
+                               float phi, float kappa, float ti, int g, int n, float *az) {
+    sl_deon_geom gm;
+    sl_deon_geom_init(fp, ti, theta_o, &gm);
+    float beta = fp->beta[g];
+    /* lambda3^2 = lambda'^2 + 2 beta^2, lambda'^2 = 2 / kappa */
+    float l2 = kappa > 1e-30f ? 2.0f / kappa : 1e30f;
+    float lam3 = sqrt(sl_minf(l2 + 2.0f * beta * beta, 1e30f));
+    float x = 1.0f / gm.etap;
+    float A[SL_SRBF_W_NODES], F[SL_SRBF_W_NODES], T[SL_SRBF_W_NODES];
+    if (g == 0) {
+        /* R: N_0 = 1/4 |cos(phi/2)| F(cos td |cos(phi/2)|) (Phi(0, h) = -2 asin h) smoothed.
+         * The fitted polynomial P(x) = sum a_j x^j of F goes through Xu's C_k expansion (exact:
+         * C_k is the smoothed |cos(phi/2)|^k), the residual F - P (small) through W. */
+        float Cn[7], a[6], t = sl_srbf_deon_wide(lam3);
+        sl_srbf_C(C, lam3, phi, Cn);
+        sl_srbf_deon_fit(D, gm.eta, a);
+        float r = 0.0f, xp = 0.25f;
+        for (int j = 0; j < 6; j++) {
+            r += a[j] * xp * (sl_srbf_deon_cu[j + 1] + t * (Cn[j + 1] - sl_srbf_deon_cu[j + 1]));
+            xp *= gm.cos_td;
+        }
+        for (int i = 0; i < SL_SRBF_W_NODES; i++) {
+            float ci = gm.cos_td * sl_srbf_w_c[i];
+            float P = a[0] + ci * (a[1] + ci * (a[2] + ci * (a[3] + ci * (a[4] + ci * a[5]))));
+            A[i] = sl_fresnel_exact(gm.eta, ci) - P;
+        }
+        az[0] = sl_maxf(r + sl_srbf_deon_W3(H, 2, 0.0f, lam3, phi, A), 0.0f);
+        return;
+    }
+    for (int i = 0; i < SL_SRBF_W_NODES; i++)
+        sl_deon_fT(&gm, sl_srbf_w_s[i], sl_srbf_w_c[i], &F[i], &T[i]);
+    if (g == 1) {
+        for (int i = 0; i < SL_SRBF_W_NODES; i++)
+            A[i] = (1.0f - F[i]) * (1.0f - F[i]) * T[i];
+        az[0] = sl_maxf(sl_srbf_deon_W3(H, 0, x, lam3, phi, A), 0.0f);
+        return;
+    }
+    /* orders 2..n: A_p = (1-f)^2 f^(p-1) T^p by multiplication from A_2 */
+    for (int i = 0; i < SL_SRBF_W_NODES; i++)
+        A[i] = (1.0f - F[i]) * (1.0f - F[i]) * F[i] * T[i] * T[i];
+    az[0] = sl_maxf(sl_srbf_deon_W3(H, 1, x, lam3, phi, A), 0.0f);
+    sl_srbf_deon_cell cell;
+    sl_srbf_deon_cell_init(x, lam3, phi, &cell);
+    float t = sl_srbf_deon_wide(lam3);
+    for (int p = 3; p <= n; p++) {
+        float s = 0.0f;
+        for (int i = 0; i < SL_SRBF_W_NODES; i++) {
+            A[i] *= F[i] * T[i];
+            s += A[i] * sl_srbf_deon_u[i];
+        }
+        if (p <= SL_SRBF_DEON_MAX_P) /* uniform mean + t x the tabulated deviation */
+            s += t * (sl_srbf_deon_cell_dot(D, p, &cell, A) - s);
+        az[p - 2] = sl_maxf(s, 0.0f);
+    }
+    /* rest: sum_{p>n} A_p = A_{n+1} / (1 - f T) (docs/numerics-deon.md), uniform azimuth */
+    float r = 0.0f;
+    for (int i = 0; i < SL_SRBF_W_NODES; i++) {
+        float den = 1.0f - F[i] * T[i];
+        if (den > 0.0f) r += A[i] * F[i] * T[i] / den * sl_srbf_deon_u[i];
+    }
+    az[n - 1] = r;
+}
+
+/* The response to one SRBF lobe: out[p] = I_p (p = 0..orders), out[orders+1] = I_rest,
+ * out[orders+2] = I (orders clamped to SL_DEON_MAX_ORDERS). C, H: the tables of
+ * host/srbf_tables.h (C_k; H_k then W), D: its d'Eon slices (SL_SRBF_DEON_FLOATS). */
+SL_INLINE void sl_srbf_deon(const sl_fiber_params *fp, SL_GLOBAL const float *C,
+                            SL_GLOBAL const float *H, SL_GLOBAL const float *D, float theta_o,
+                            float phi_o, float theta_j, float phi_j, float lambda, float *out) {
+    int n = fp->orders;
+    if (n > SL_DEON_MAX_ORDERS) n = SL_DEON_MAX_ORDERS;
+    if (n < 2) n = 2;
+    float cos_tj = sl_maxf(cos(theta_j), 0.0f), sin_tj = sin(theta_j);
+    float inv_l2 = 1.0f / (lambda * lambda);
+    float phi = sl_wrap_pi(phi_o - phi_j);
+    /* the error floor of numerics.md sec. 5: 0.03 int G, int G = pi lambda^2 (1 - e^(-4/l^2)) */
+    float floor_ = 0.03f * SL_PI_F * lambda * lambda * (-expm1(-4.0f * inv_l2));
+    for (int k = 0; k < n + 3; k++)
+        out[k] = 0.0f;
+    for (int g = 0; g < 3; g++) {
+        /* the product lobe exp(a cos ti + b sin ti): G_th's 2 cos(ti - tj) / lambda^2 plus
+         * log M's -sin ti sin to' / v + |cos ti cos to'| / v (log I0(y) = y + log i0e(y)) */
+        float v = fp->beta[g] * fp->beta[g], tho = theta_o - 2.0f * fp->alpha[g];
+        float a = 2.0f * cos_tj * inv_l2 + fabs(cos(tho)) / v;
+        float b = 2.0f * sin_tj * inv_l2 - sin(tho) / v;
+        float R = sqrt(a * a + b * b);
+        float mu = atan2(b, a), s = 1.0f / sqrt(sl_maxf(R, 1e-6f));
+        float lo = sl_maxf(mu - 3.5f * s, -0.5f * SL_PI_F),
+              hi = sl_minf(mu + 3.5f * s, 0.5f * SL_PI_F);
+        if (!(hi > lo)) continue;
+        int nz = g < 2 ? 1 : n; /* outputs of this group */
+        int o0 = g < 2 ? g : 2; /* its first output */
+        float c = 0.5f * (lo + hi), h = 0.5f * (hi - lo);
+        /* log M_p = cv - num / v + log i0e(|cos ti cos to'| / v) (sl_deon_log_mp's form of
+         * Eq. 7) with the ti-independent cv hoisted and i0e applied directly (no log)
+         * (cv <= 80: exp(cv) stays finite in float even for a denormal v, where the lobe is a
+         * delta far below float resolution anyway; beta >= 1e-17 rad is unaffected) */
+        float cv = sl_minf(-log(v) - log(-expm1(-2.0f / v)), 80.0f), cto = cos(tho);
+        float wk[8], wsum = 0.0f;
+        for (int k = 0; k < 8; k++) {
+            float ti = c + h * sl_srbf_deon_glx[k];
+            float cti = cos(ti);
+            wk[k] = 0.0f;
+            if (!(cti > 0.0f)) continue;
+            float sd = sin(0.5f * (ti - theta_j));
+            float cc = cti * cto, num;
+            if (cc >= 0.0f) {
+                float sp = sin(0.5f * (ti + tho));
+                num = 2.0f * sp * sp;
+            } else {
+                float cm = cos(0.5f * (ti - tho));
+                num = 2.0f * cm * cm;
+            }
+            float lg = -4.0f * sd * sd * inv_l2 + cv - num / v;
+            float z = 2.0f * SL_PI_F * sl_srbf_i0e_fast(2.0f * cti * cos_tj * inv_l2);
+            float w = sl_srbf_deon_glw[k] * h * cti * z * exp(lg) * sl_srbf_i0e_fast(fabs(cc) / v);
+            if (w > 0.0f && w <= SL_FLT_MAX) wk[k] = w;
+            wsum += wk[k];
+        }
+        /* Skip the azimuthal part (the expensive one) when even the largest possible N'_p / z
+         * cannot lift the group above 1e-4 of the error floor 0.03 int G of numerics.md sec. 5:
+         * N'_p / z is an average of N_p, and sum_p N_p <= (sum_p E_p <= 1) x max D_beta <=
+         * 1 / (sqrt(2 pi) beta) + 1 / (2 pi) (the wrapped detector's peak; R: <= 1/4). */
+        float bound = g == 0 ? 0.25f : 0.3989423f / fp->beta[g] + 0.1591549f;
+        if (!(wsum * bound > 1e-4f * floor_)) continue;
+        /* normalised azimuthal factors N'_p / z at the 3 Gauss points; z = 2 pi i0e(kappa)
+         * itself is applied exactly at each node (near a pole it falls from 2 pi to ~0.1 over
+         * the interval, which a quadratic does not follow: 10 % errors at grazing views) */
+        float fz[3][SL_DEON_MAX_ORDERS + 1];
+        for (int j = 0; j < 3; j++) {
+            float ti = c + h * SL_SRBF_DEON_Q3 * (float)(j - 1);
+            float kappa = 2.0f * cos(ti) * cos_tj * inv_l2;
+            sl_srbf_deon_az(fp, C, H, D, theta_o, phi, kappa, ti, g, n, fz[j]);
+        }
+        for (int k = 0; k < 8; k++) {
+            if (!(wk[k] > 0.0f)) continue;
+            /* quadratic through the 3 Gauss points -q, 0, q */
+            const float q = SL_SRBF_DEON_Q3, u = sl_srbf_deon_glx[k];
+            float l0 = u * (u - q) / (2.0f * q * q), l2 = u * (u + q) / (2.0f * q * q);
+            float l1 = 1.0f - l0 - l2;
+            for (int m = 0; m < nz; m++)
+                out[o0 + m] += wk[k] * (l0 * fz[0][m] + l1 * fz[1][m] + l2 * fz[2][m]);
+        }
+    }
+    float total = 0.0f;
+    for (int k = 0; k <= n + 1; k++) {
+        float y = out[k];
+        if (!(y >= 0.0f && y <= SL_FLT_MAX)) y = y > 0.0f ? SL_FLT_MAX : 0.0f;
+        out[k] = y;
+        total += y;
+    }
+    out[n + 2] = total;
+}
+
+/* The renderer's row (the shape of sl_srbf_rgb_row, kernels/srbf_fast.h): three absorption
+ * coefficients sig[0..2] (NULL: fp->sigma_a for all), out[9] = I_0 rgb, I_1 rgb, then orders
+ * >= 2 and the rest term summed, rgb (the "R, TT, TRT" slots of the Marschner row). A row whose
+ * three sigma_a are equal is evaluated once. */
+SL_INLINE void sl_srbf_deon_rgb_row(const sl_fiber_params *fp, SL_GLOBAL const float *C,
+                                    SL_GLOBAL const float *H, SL_GLOBAL const float *D,
+                                    float theta_o, float phi_o, float theta_j, float phi_j,
+                                    float lambda, const float *sig, float out[9]) {
+    int n =
+        fp->orders > SL_DEON_MAX_ORDERS ? SL_DEON_MAX_ORDERS : (fp->orders < 2 ? 2 : fp->orders);
+    sl_fiber_params q = *fp;
+    float o[SL_SRBF_DEON_NOUT];
+    for (int ch = 0; ch < 3; ch++) {
+        if (sig) q.sigma_a = sig[ch];
+        if (ch == 0 || (sig && sig[ch] != sig[ch - 1])) /* o still holds channel ch - 1 */
+            sl_srbf_deon(&q, C, H, D, theta_o, phi_o, theta_j, phi_j, lambda, o);
+        float rest = 0.0f;
+        for (int p = 2; p <= n + 1; p++)
+            rest += o[p];
+        out[ch] = o[0];
+        out[3 + ch] = o[1];
+        out[6 + ch] = rest;
+    }
+}
+
+#endif
