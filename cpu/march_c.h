@@ -14,4 +14,12 @@ void slc_march(const float *vox, const int n[3], const float lo[3], float h, con
                const float *verts, const uint32_t *vert_ids, size_t nverts, const float *dirs,
                size_t nlobes, int paths, uint32_t seed, float *outT, float *outS);
 
+/* The same outputs computed by nthreads threads (contiguous ranges of vertices per lobe; every
+ * output depends only on its own (vertex, lobe) stream, so the result is identical for any
+ * count). slc_march is this with one thread. Needs n voxels' floats of scratch. */
+void slc_march_threads(const float *vox, const int n[3], const float lo[3], float h,
+                       const float *tabs, const float *verts, const uint32_t *vert_ids,
+                       size_t nverts, const float *dirs, size_t nlobes, int paths, uint32_t seed,
+                       float *outT, float *outS, int nthreads);
+
 #endif

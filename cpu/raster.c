@@ -12,6 +12,7 @@
 #define SAMPLE_SPACING 0.5
 #define MAX_ALONG ((double)SL_RASTER_MAX_ALONG)
 #define MAX_ACROSS ((double)SL_RASTER_MAX_ACROSS)
+#define SL_RASTER_MAX_LAYERS 64 /* host/shadow.h: SL_SHADOW_MAX_LAYERS */
 
 void slc_raster_record(const double p0[3], const double p1[3], double hw, double scale,
                        float *rec) {
@@ -39,10 +40,35 @@ void slc_raster_record(const double p0[3], const double p1[3], double hw, double
     rec[10] = (float)nw;
 }
 
+/* (uint64_t)llrintf(s) for 0 <= s < 2^63 in the default rounding mode (to nearest, ties to
+ * even), without the libm call: below 2^23 adding and subtracting 2^23 rounds s to an integer in
+ * that mode (the sum's ulp is 1) and both operations are exact otherwise; from 2^23 on a float
+ * is already an integer. Bit-identical to llrintf (and to the kernel's convert_ulong_rte). */
+static inline uint64_t round_share(float s) {
+    if (s < 8388608.0f) return (uint64_t)((s + 8388608.0f) - 8388608.0f);
+    return (uint64_t)s;
+}
+
 static uint32_t bits_of(float f) {
     uint32_t b;
     memcpy(&b, &f, sizeof b);
     return b;
+}
+
+/* Whether every tent corner of every sample of rec lies inside the w x h map, with a texel of
+ * slack for the rounding of the per-sample float positions: the corner loops then skip their
+ * bounds checks (which texels get what is unchanged). */
+static int rec_inside(const float *rec, int w, int h) {
+    const double na = rec[9] - 1.0, nw = rec[10] - 1.0;
+    double x0 = rec[0], y0 = rec[1], xl = x0, xh = x0, yl = y0, yh = y0;
+    for (int c = 1; c < 4; c++) {
+        const double x = x0 + ((c & 1) ? na * rec[3] : 0.0) + ((c & 2) ? nw * rec[6] : 0.0);
+        const double y = y0 + ((c & 1) ? na * rec[4] : 0.0) + ((c & 2) ? nw * rec[7] : 0.0);
+        xl = x < xl ? x : xl, xh = x > xh ? x : xh;
+        yl = y < yl ? y : yl, yh = y > yh ? y : yh;
+    }
+    /* corners: floor(x - 0.5) - 1 .. floor(x - 0.5) + 2 with one texel of slack */
+    return xl - 2.5 >= 0.0 && yl - 2.5 >= 0.0 && xh + 2.5 < (double)w && yh + 2.5 < (double)h;
 }
 
 void slc_raster_z0(const float *recs, size_t nseg, int w, int h, uint32_t *z0bits) {
@@ -52,6 +78,25 @@ void slc_raster_z0(const float *recs, size_t nseg, int w, int h, uint32_t *z0bit
         const float *rec = recs + s * SL_RASTER_REC;
         const sl_uint na = (sl_uint)rec[9], nw = (sl_uint)rec[10];
         const float m = rec[8];
+        if (na == 0 || nw == 0) continue;
+        if (rec_inside(rec, w, h)) { /* the four corners unrolled, no bounds checks */
+            for (sl_uint i = 0; i < na; i++)
+                for (sl_uint j = 0; j < nw; j++) {
+                    float x, y, z, fx, fy;
+                    sl_int ix, iy;
+                    sl_raster_sample(rec, i, j, &x, &y, &z);
+                    sl_raster_tent(x, y, &ix, &iy, &fx, &fy);
+                    uint32_t *p = &z0bits[(size_t)iy * w + ix];
+                    const uint32_t b = bits_of(z);
+                    const float gx = 1.0f - fx, gy = 1.0f - fy;
+                    /* llrintf(share) == 0 <=> share <= 0.5 (share >= 0; rint(0.5) = 0) */
+                    if (sl_raster_share(m, gx, gy) > 0.5f && b < p[0]) p[0] = b;
+                    if (sl_raster_share(m, fx, gy) > 0.5f && b < p[1]) p[1] = b;
+                    if (sl_raster_share(m, gx, fy) > 0.5f && b < p[w]) p[w] = b;
+                    if (sl_raster_share(m, fx, fy) > 0.5f && b < p[w + 1]) p[w + 1] = b;
+                }
+            continue;
+        }
         for (sl_uint i = 0; i < na; i++)
             for (sl_uint j = 0; j < nw; j++) {
                 float x, y, z, fx, fy;
@@ -63,7 +108,8 @@ void slc_raster_z0(const float *recs, size_t nseg, int w, int h, uint32_t *z0bit
                     if (tx < 0 || ty < 0 || tx >= w || ty >= h) continue;
                     const float share =
                         sl_raster_share(m, (c & 1) ? fx : 1.0f - fx, (c >> 1) ? fy : 1.0f - fy);
-                    if (llrintf(share) == 0) continue;
+                    /* llrintf(share) == 0 (share >= 0; rint(0.5) = 0 by ties-to-even) */
+                    if (!(share > 0.5f)) continue;
                     uint32_t *p = &z0bits[(size_t)ty * w + tx], b = bits_of(z);
                     if (b < *p) *p = b;
                 }
@@ -71,14 +117,54 @@ void slc_raster_z0(const float *recs, size_t nseg, int w, int h, uint32_t *z0bit
     }
 }
 
+/* sl_raster_layer with the boundaries precomputed: bnd[k] = (float)((k + 1)(k + 2) / 2) d, the
+ * same float the kernel compares against. */
+static inline unsigned layer_of(float dz, const float *bnd, unsigned K) {
+    unsigned k = 0;
+    while (k + 1u < K && dz > bnd[k])
+        k++;
+    return k;
+}
+
+static inline float z0_of(const uint32_t *z0bits, size_t t) {
+    float z0;
+    memcpy(&z0, &z0bits[t], sizeof z0);
+    return z0;
+}
+
 void slc_raster_layers(const float *recs, size_t nseg, int w, int h, unsigned K, float d,
                        const uint32_t *z0bits, uint64_t *bins) {
     const size_t plane = (size_t)w * h;
     memset(bins, 0, K * plane * sizeof *bins);
+    float bnd[SL_RASTER_MAX_LAYERS];
+    if (K > SL_RASTER_MAX_LAYERS) K = SL_RASTER_MAX_LAYERS;
+    for (unsigned k = 0; k + 1u < K; k++)
+        bnd[k] = (float)((k + 1u) * (k + 2u) / 2u) * d;
     for (size_t s = 0; s < nseg; s++) {
         const float *rec = recs + s * SL_RASTER_REC;
         const sl_uint na = (sl_uint)rec[9], nw = (sl_uint)rec[10];
         const float m = rec[8];
+        if (na == 0 || nw == 0) continue;
+        if (rec_inside(rec, w, h)) { /* the four corners unrolled, no bounds checks */
+            for (sl_uint i = 0; i < na; i++)
+                for (sl_uint j = 0; j < nw; j++) {
+                    float x, y, z, fx, fy;
+                    sl_int ix, iy;
+                    sl_raster_sample(rec, i, j, &x, &y, &z);
+                    sl_raster_tent(x, y, &ix, &iy, &fx, &fy);
+                    const size_t t = (size_t)iy * w + ix;
+                    const float gx = 1.0f - fx, gy = 1.0f - fy;
+                    const size_t tt[4] = {t, t + 1, t + w, t + w + 1};
+                    const float sh[4] = {sl_raster_share(m, gx, gy), sl_raster_share(m, fx, gy),
+                                         sl_raster_share(m, gx, fy), sl_raster_share(m, fx, fy)};
+                    for (int c = 0; c < 4; c++) {
+                        const uint64_t q = round_share(sh[c]);
+                        if (q == 0) continue;
+                        bins[layer_of(z - z0_of(z0bits, tt[c]), bnd, K) * plane + tt[c]] += q;
+                    }
+                }
+            continue;
+        }
         for (sl_uint i = 0; i < na; i++)
             for (sl_uint j = 0; j < nw; j++) {
                 float x, y, z, fx, fy;
@@ -90,12 +176,10 @@ void slc_raster_layers(const float *recs, size_t nseg, int w, int h, unsigned K,
                     if (tx < 0 || ty < 0 || tx >= w || ty >= h) continue;
                     const float share =
                         sl_raster_share(m, (c & 1) ? fx : 1.0f - fx, (c >> 1) ? fy : 1.0f - fy);
-                    const uint64_t q = (uint64_t)llrintf(share);
+                    const uint64_t q = round_share(share);
                     if (q == 0) continue;
                     const size_t t = (size_t)ty * w + tx;
-                    float z0;
-                    memcpy(&z0, &z0bits[t], sizeof z0);
-                    bins[sl_raster_layer(z - z0, d, K) * plane + t] += q;
+                    bins[layer_of(z - z0_of(z0bits, t), bnd, K) * plane + t] += q;
                 }
             }
     }

@@ -32,9 +32,18 @@ typedef struct share {
     float m, mt, mz;
 } share;
 
-static int share_cmp(const void *a, const void *b) {
-    uint32_t x = ((const share *)a)->pix, y = ((const share *)b)->pix;
-    return x < y ? -1 : x > y;
+/* Stable sort by pixel (equal pixels keep their generation order, so the per-pixel double sums
+ * below add in one fixed order on every platform; glibc's qsort happened to be a stable merge
+ * sort, this makes it explicit). Insertion sort: a segment's shares come along the segment, so
+ * they are nearly sorted and short (~4 per sample); it costs a fraction of qsort's calls. */
+static void share_sort(share *s, size_t k) {
+    for (size_t i = 1; i < k; i++) {
+        share x = s[i];
+        size_t j = i;
+        for (; j > 0 && s[j - 1].pix > x.pix; j--)
+            s[j] = s[j - 1];
+        s[j] = x;
+    }
 }
 
 void slc_view_segment(const double p0[3], const double p1[3], double hw, float a0, float a1,
@@ -68,7 +77,7 @@ void slc_view_segment(const double p0[3], const double p1[3], double hw, float a
             }
         }
     }
-    qsort(s, k, sizeof *s, share_cmp);
+    share_sort(s, k);
     for (size_t a = 0; a < k;) {
         size_t b = a;
         double M = 0, Mt = 0, Mz = 0;

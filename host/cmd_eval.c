@@ -17,7 +17,7 @@
 
 static void help(void) {
     printf("usage: strandlight eval QUANTITY [--material FILE.json | --scene S.json]\n"
-           "                        [--backend reference|c|opencl] [--method exact|xu|fast]\n"
+           "                        [--backend reference|c|opencl] [--method exact|xu|fast|table]\n"
            "                        [--device SPEC] < in.csv > out.csv\n"
            "\n"
            "Evaluates a fiber scattering quantity for every row of a CSV table read from standard\n"
@@ -53,9 +53,11 @@ static void help(void) {
            "                        device exists)\n"
            "  --device SPEC         OpenCL device for --backend opencl: opencl (default: any,\n"
            "                        GPU preferred), gpu, pocl, P:D or N; implies --backend opencl\n"
-           "  --method M            exact|xu|fast, for srbf (accepted and ignored by the others):\n"
-           "                        exact needs --backend reference (its default there); xu and\n"
-           "                        fast (the default) run on c and opencl\n"
+           "  --method M            exact|xu|fast|table, for srbf (accepted and ignored by the\n"
+           "                        others): exact needs --backend reference (its default\n"
+           "                        there); xu, fast (the default) and table (Ren 2010's\n"
+           "                        precomputed table of the material, built once and cached;\n"
+           "                        docs/srbf_ren.md) run on c and opencl\n"
            "  --segments M          srbf --method xu: segments of the piecewise-linear quadrature\n"
            "                        (1..8, default 4; Xu 2011 Sec. 4.2.2)\n"
            "\n"
@@ -125,7 +127,8 @@ static int parse_args(int argc, char **argv, eval_opts *o) {
     if (o->device && o->backend != SL_EVAL_OPENCL)
         return cli_usage_error("eval", "--device applies to --backend opencl only");
     if (method && sl_eval_method_from_name(method, &o->method))
-        return cli_usage_error("eval", "unknown method '%s' (expected exact, xu or fast)", method);
+        return cli_usage_error("eval", "unknown method '%s' (expected exact, xu, fast or table)",
+                               method);
     const char *why = sl_eval_method_unsupported(o->q, o->backend, o->method);
     if (why) return cli_usage_error("eval", "%s", why);
     if (o->material && o->scene)

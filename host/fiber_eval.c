@@ -13,6 +13,7 @@
 #include "furnace_ref.h"
 #include "marschner_ref.h"
 #include "srbf_ref.h"
+#include "srbf_ren.h"
 #include "srbf_tables.h"
 
 #include <math.h>
@@ -282,7 +283,13 @@ static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, i
     sl_fiber_params fp;
     if (m) sl_material_to_fiber(m, ch, &fp);
     int rc = 0;
-    if (q == SL_EVAL_SRBF) {
+    if (q == SL_EVAL_SRBF && mt == SL_EVAL_METHOD_TABLE) {
+        /* the table of material m (disk cache, or built on the C path), then its lookup */
+        sl_srbf_ren t;
+        rc = sl_srbf_ren_get(NULL, m, NULL, &t, e);
+        if (!rc) rc = sl_srbf_ren_eval(b == SL_EVAL_OPENCL ? cl : NULL, &t, ch, n, fin, fout, e);
+        sl_srbf_ren_free(&t); /* t is zeroed first, so this is safe after a failure too */
+    } else if (q == SL_EVAL_SRBF) {
         rc = sl_srbf_eval(b == SL_EVAL_OPENCL ? cl : NULL, m, ch, mt == SL_EVAL_METHOD_XU,
                           segments, n, fin, fout, e);
     } else if (b == SL_EVAL_C) {
@@ -330,8 +337,8 @@ static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, i
 }
 
 int sl_eval_method_from_name(const char *name, sl_eval_method *mt) {
-    static const char *const names[] = {"exact", "xu", "fast"};
-    for (int i = 0; i < 3; i++)
+    static const char *const names[] = {"exact", "xu", "fast", "table"};
+    for (int i = 0; i < 4; i++)
         if (strcmp(name, names[i]) == 0) {
             *mt = (sl_eval_method)(i + 1);
             return 0;
@@ -342,7 +349,8 @@ int sl_eval_method_from_name(const char *name, sl_eval_method *mt) {
 const char *sl_eval_method_unsupported(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt) {
     if (q != SL_EVAL_SRBF || mt == SL_EVAL_METHOD_DEFAULT) return NULL;
     if (b == SL_EVAL_REFERENCE && mt != SL_EVAL_METHOD_EXACT)
-        return "--backend reference has --method exact only (xu and fast run on c and opencl)";
+        return "--backend reference has --method exact only (xu, fast and table run on c and "
+               "opencl)";
     if (b != SL_EVAL_REFERENCE && mt == SL_EVAL_METHOD_EXACT)
         return "--method exact needs --backend reference";
     return NULL;

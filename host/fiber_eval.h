@@ -98,9 +98,10 @@ typedef enum sl_eval_method {
     SL_EVAL_METHOD_DEFAULT = 0,
     SL_EVAL_METHOD_EXACT,
     SL_EVAL_METHOD_XU,
-    SL_EVAL_METHOD_FAST
+    SL_EVAL_METHOD_FAST,
+    SL_EVAL_METHOD_TABLE /* Ren 2010's precomputed table (host/srbf_ren.h, docs/srbf_ren.md) */
 } sl_eval_method;
-/* "exact", "xu", "fast" <-> enum; from_name returns -1 for an unknown name. */
+/* "exact", "xu", "fast", "table" <-> enum; from_name returns -1 for an unknown name. */
 int sl_eval_method_from_name(const char *name, sl_eval_method *mt);
 /* Whether backend b implements method mt for q (srbf: exact on reference only, xu and fast on
  * c and opencl); NULL when fine, else why not. Other quantities accept and ignore any method. */

@@ -3,6 +3,7 @@
  *   light   hair geometry (points, radii, strands) + used lobes (dir, lambda) + shadow quality
  *   dual    material
  *   view    hair geometry + transparency + camera + image size + K
+ *   srbf    material (Ren's table, kept while sl_srbf_ren_matches; the auto choice: plan_srbf)
  *   shade   everything, including the per-strand sigma_a (strand_key; always runs),
  *   resolve view + shade
  * and the planner re-runs a pass only when its key changed: a per-strand sigma_a edit (paint)
@@ -13,6 +14,7 @@
  * below quality.point_threshold, the K-buffer layers no pixel reached and, for opaque hair, the
  * transparency channel. */
 #include "frame_internal.h"
+#include "shadow_split.h"
 #include "srbf_c.h"
 #include "voxel.h"
 
@@ -24,7 +26,7 @@
 
 void sl_render_opts_default(sl_render_opts *o) {
     memset(o, 0, sizeof *o);
-    o->srbf_method = SL_SRBF_METHOD_FAST;
+    o->srbf_method = SL_RENDER_SRBF_AUTO;
     o->segments = 4;
     o->lobe_threshold = -1; /* the scene's quality.lobe_threshold */
 }
@@ -37,6 +39,44 @@ void sl_fbuf_free(sl_fbuf *f) {
     free(f->shadow);
     free(f->lobes);
     memset(f, 0, sizeof *f);
+}
+
+int sl_render_method_parse(const char *s, int *method, sl_err *e) {
+    if (strcmp(s, "auto") == 0)
+        *method = SL_RENDER_SRBF_AUTO;
+    else if (strcmp(s, "fast") == 0)
+        *method = SL_SRBF_METHOD_FAST;
+    else if (strcmp(s, "xu") == 0)
+        *method = SL_SRBF_METHOD_XU;
+    else if (strcmp(s, "table") == 0)
+        *method = SL_RENDER_SRBF_TABLE;
+    else
+        return sl_fail(e, "SRBF method \"%s\": expected auto, fast, xu or table", s);
+    return 0;
+}
+
+const char *sl_render_method_name(int method) {
+    switch (method) {
+    case SL_SRBF_METHOD_XU:
+        return "xu";
+    case SL_SRBF_METHOD_FAST:
+        return "fast";
+    case SL_RENDER_SRBF_TABLE:
+        return "table";
+    default:
+        return "auto";
+    }
+}
+
+void sl_renderer_set_editing(sl_renderer *r, int editing) {
+    r->editing = editing != 0;
+}
+
+static void free_ren(sl_renderer *r) {
+    if (r->ren_mem) clReleaseMemObject(r->ren_mem);
+    r->ren_mem = NULL;
+    if (r->have_ren) sl_srbf_ren_free(&r->ren);
+    r->have_ren = 0;
 }
 
 void sl_renderer_init(sl_renderer *r, sl_device *dev, const sl_render_opts *o) {
@@ -53,6 +93,8 @@ static void free_lights(sl_renderer *r) {
         sl_dodm_free(&r->light[i]);
     free(r->light);
     free(r->light_lobe);
+    free(r->light_w);
+    r->light_w = NULL;
     r->light = NULL;
     r->light_lobe = NULL;
     r->nlights = 0;
@@ -77,6 +119,7 @@ void sl_renderer_free(sl_renderer *r) {
     free_volume(r);
     if (r->have_vms) sl_volume_ms_free(&r->vms);
     if (r->have_tables) sl_srbf_tables_free(&r->tables);
+    free_ren(r);
     free(r->kbuf);
     free(r->kcount);
     free(r->strand_sigma_a);
@@ -182,39 +225,75 @@ static int light_pass(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     so.size = sl_frame_shadow_size(s, r->o.shadow_size);
     uint64_t k = hash_geometry(h, 0x11);
     k = sl_hash64(&so, sizeof so, k);
+    so.threads = sl_frame_threads(r); /* after the key: the maps do not depend on it */
     for (int j = 0; j < nused; j++) {
         k = sl_hash64(lobes->lobe[used[j]].dir, sizeof lobes->lobe[0].dir, k);
         k = sl_hash64(&lobes->lobe[used[j]].lambda, sizeof(double), k);
     }
-    if (k == r->light_key && r->nlights == nused) {
+    if (k == r->light_key && r->light) {
         sl_frame_pass(r, "light", SL_PASS_CACHED, 0,
                       "%d deep opacity maps reused (geometry, lobes and shadow quality unchanged)",
-                      nused);
+                      r->nlights);
         return 0;
     }
     free_lights(r);
     double t0 = sl_now();
-    r->light = sl_calloc(nused ? nused : 1, sizeof *r->light);
-    r->light_lobe = sl_malloc((nused ? nused : 1) * sizeof *r->light_lobe);
+    /* broad lobes get several maps (shadow_split.h), within a budget of
+     * SL_SHADOW_SPLIT_MAPS_PER_LOBE per lobe: the extra maps go to the broad lobes of largest
+     * power first (a lobe left without extras keeps its single capped map) */
+    int nmaps = 0, nsplit = 0;
+    double sd[3 * SL_SHADOW_SPLIT_N], sw[SL_SHADOW_SPLIT_N];
+    int *want = sl_malloc((nused ? nused : 1) * sizeof *want);
+    for (int j = 0; j < nused; j++)
+        want[j] = sl_shadow_split(lobes->lobe[used[j]].dir, lobes->lobe[used[j]].lambda, sd, sw);
+    int extra = (SL_SHADOW_SPLIT_MAPS_PER_LOBE - 1) * nused;
+    for (;;) { /* the most powerful broad lobe not yet served */
+        int best = -1;
+        double bp = -1;
+        for (int j = 0; j < nused; j++) {
+            const sl_lobe *lb = &lobes->lobe[used[j]];
+            double pw = (lb->rgb[0] + lb->rgb[1] + lb->rgb[2]) * sl_lobe_integral(lb->lambda);
+            if (want[j] > 1 && pw > bp) best = j, bp = pw;
+        }
+        if (best < 0) break;
+        int give = want[best] - 1 < extra ? want[best] - 1 : extra;
+        extra -= give;
+        want[best] = -(1 + give); /* served: negative marks it */
+    }
+    for (int j = 0; j < nused; j++) {
+        want[j] = want[j] < 0 ? -want[j] : 1;
+        nmaps += want[j];
+        nsplit += want[j] > 1;
+    }
+    r->light = sl_calloc(nmaps ? nmaps : 1, sizeof *r->light);
+    r->light_lobe = sl_malloc((nmaps ? nmaps : 1) * sizeof *r->light_lobe);
+    r->light_w = sl_malloc((nmaps ? nmaps : 1) * sizeof *r->light_w);
     sl_progress pr;
     sl_progress_begin(&pr, "light pass");
-    for (int j = 0; j < nused; j++) {
+    for (int j = 0, m = 0; j < nused; j++) {
         const sl_lobe *lb = &lobes->lobe[used[j]];
-        if (sl_shadow_build(r->dev, h, lb->dir, lb->lambda, &so, &r->light[j], e)) {
-            sl_progress_end(&pr);
-            r->nlights = j;
-            free_lights(r);
-            return -1;
+        int c = sl_shadow_split_max(lb->dir, lb->lambda, want[j], sd, sw);
+        for (int q = 0; q < c; q++, m++) {
+            if (sl_shadow_build(r->dev, h, sd + 3 * q, lb->lambda, &so, &r->light[m], e)) {
+                sl_progress_end(&pr);
+                r->nlights = m;
+                free_lights(r);
+                free(want);
+                return -1;
+            }
+            r->light_lobe[m] = j;
+            r->light_w[m] = sw[q];
+            r->nlights = m + 1;
+            sl_progress_update(&pr, (m + 1.0) / nmaps);
         }
-        r->light_lobe[j] = used[j];
-        r->nlights = j + 1;
-        sl_progress_update(&pr, (j + 1.0) / nused);
     }
     sl_progress_end(&pr);
+    free(want);
     r->light_key = k;
     sl_frame_pass(r, "light", SL_PASS_RUN, sl_now() - t0,
-                  "%d deep opacity maps %dx%d, K=%d, kappa %.3g (%s)", nused, so.size, so.size,
-                  so.layers, so.kappa, r->dev->is_opencl ? "OpenCL" : "C");
+                  "%d deep opacity maps %dx%d for %d lobes (%d broad, split), K=%d, kappa %.3g (%s)",
+                  nmaps, so.size, so.size, nused, nsplit, so.layers, so.kappa,
+                  r->dev->is_opencl ? "OpenCL" : "C");
     return 0;
 }
 
@@ -349,7 +428,8 @@ void sl_frame_estimate(const sl_scene *s, int shadow_size_opt, sl_frame_need *n)
     int size = sl_frame_shadow_size(s, shadow_size_opt), layers = sl_frame_shadow_layers(s);
     int nl = s->lobes > 0 ? s->lobes : 1;
     double points = npx * K * (24.0 + 12.0 + 4.0 + 4.0 * nl + 4.0 * SL_SHADE_FLOATS);
-    double shadow_one = (double)size * size * (4.0 + 8.0 * layers), shadow = nl * shadow_one;
+    double shadow_one = (double)size * size * (4.0 + 8.0 * layers),
+           shadow = (double)SL_SHADOW_SPLIT_MAPS_PER_LOBE * nl * shadow_one; /* broad lobes split */
     double vox =
         s->voxels > 0 ? (double)s->voxels * s->voxels * s->voxels * 4.0 * SL_VOX_FIELDS : 0.0;
     n->host = fbuf + view + outs + points + shadow + vox;
@@ -394,6 +474,120 @@ static int alloc_fbuf(sl_fbuf *f, int w, int h) {
     f->lobes = sl_calloc(n, sizeof(float));
     for (size_t i = 0; i < n; i++)
         f->depth[i] = INFINITY;
+    return 0;
+}
+
+/* 1 when shading point i's strand has a per-strand sigma_a other than the material's: its rows
+ * use `fast` even when the table is on (the table is baked for one sigma_a). */
+static int painted(const sl_renderer *r, const sl_material *m, const sl_shade_points *p, size_t i) {
+    if (!r->strand_sigma_a || !p->strand) return 0;
+    const float *q = r->strand_sigma_a + 3 * (size_t)p->strand[i];
+    return q[0] != (float)m->sigma_a[0] || q[1] != (float)m->sigma_a[1] ||
+           q[2] != (float)m->sigma_a[2];
+}
+
+static void table_params(const sl_renderer *r, sl_srbf_ren_params *p) {
+    if (r->o.table_params) {
+        *p = *r->o.table_params;
+    } else {
+        sl_srbf_ren_params_default(p);
+        p->threads = r->o.threads;
+    }
+}
+
+/* Loads or builds the table for mat (kept while the material matches). */
+static int ensure_table(sl_renderer *r, const sl_material *mat, int *state, sl_err *e) {
+    if (r->have_ren && sl_srbf_ren_matches(&r->ren, mat)) {
+        *state = SL_PASS_CACHED;
+        return 0;
+    }
+    free_ren(r);
+    sl_srbf_ren_params p;
+    table_params(r, &p);
+    if (sl_srbf_ren_get(r->dev, mat, &p, &r->ren, e)) return -1;
+    r->have_ren = 1;
+    *state = SL_PASS_RUN;
+    return 0;
+}
+
+/* The SRBF method of this frame (docs/frame.md, "SRBF method"): records pass "srbf" and sets
+ * r->srbf_used. rows: (point, lobe) rows of unpainted strands this frame shades. */
+static int plan_srbf(sl_renderer *r, const sl_material *mat, double rows, double rows_painted,
+                     sl_err *e) {
+    int m = r->o.srbf_method, state = SL_PASS_SKIPPED;
+    double t0 = sl_now();
+    const char *paint_note = rows_painted > 0 ? "; rows of painted strands (per-strand sigma_a "
+                                                "other than the material's) use fast"
+                                              : "";
+    if (m == SL_SRBF_METHOD_XU || m == SL_SRBF_METHOD_FAST) {
+        r->srbf_used = m;
+        snprintf(r->srbf_why, sizeof r->srbf_why, "%s chosen (render --method %s)",
+                 sl_render_method_name(m), sl_render_method_name(m));
+        sl_frame_pass(r, "srbf", SL_PASS_SKIPPED, 0, "no table: %s", r->srbf_why);
+        return 0;
+    }
+    const char *why = NULL;
+    char buf[200];
+    int use = 0;
+    if (m == SL_RENDER_SRBF_TABLE) {
+        use = 1;
+        why = "table chosen (render --method table)";
+    } else if (r->editing) {
+        why = "auto: the material is being edited (sl_renderer_set_editing): fast, no table built";
+    } else if (mat->eccentricity != 1.0) {
+        /* the table averages an eccentric fiber over its rotation: p95 0.18 against the exact
+         * value at one orientation where fast has 0.04 (docs/srbf_ren.md) */
+        why = "auto: eccentric fiber (the table averages over the fiber's rotation, p95 error "
+              "0.18 vs fast's 0.04): fast";
+    } else if (r->have_ren && sl_srbf_ren_matches(&r->ren, mat)) {
+        use = 1;
+        why = "auto: the table for this material is in memory";
+    } else if (rows <= 0) {
+        why = "auto: no rows to shade from a table: fast";
+    } else {
+        sl_srbf_ren_params p;
+        table_params(r, &p);
+        long left = (r->o.frames > 0 ? r->o.frames : 1) - r->frames_done;
+        if (left < 1) left = 1;
+        double build = sl_srbf_ren_build_rows(mat, &p), saved = SL_FRAME_TABLE_SAVING * rows * left;
+        if (sl_srbf_ren_cached(mat, &p, r->have_tables ? &r->tables : NULL)) {
+            use = 1;
+            why = "auto: the table for this material is in the disk cache";
+        } else if (saved > build) {
+            use = 1;
+            snprintf(buf, sizeof buf,
+                     "auto: building pays off: %ld frame%s x %.0f rows x %.1f saved > %.0f fast "
+                     "evaluations to build",
+                     left, left == 1 ? "" : "s", rows, SL_FRAME_TABLE_SAVING, build);
+            why = buf;
+        } else {
+            snprintf(buf, sizeof buf,
+                     "auto: fast: a build (%.0f fast evaluations) would not pay off over %ld "
+                     "frame%s x %.0f rows x %.1f saved",
+                     build, left, left == 1 ? "" : "s", rows, SL_FRAME_TABLE_SAVING);
+            why = buf;
+        }
+    }
+    if (use) {
+        if (mat->model != SL_MODEL_MARSCHNER)
+            return sl_fail(e, "render: the SRBF table exists for the Marschner model only");
+        if (ensure_table(r, mat, &state, e)) return -1;
+        r->srbf_used = SL_RENDER_SRBF_TABLE;
+    } else {
+        r->srbf_used = SL_SRBF_METHOD_FAST;
+    }
+    snprintf(r->srbf_why, sizeof r->srbf_why, "%s%s", why, use ? paint_note : "");
+    if (use && state == SL_PASS_RUN)
+        sl_frame_pass(r, "srbf", SL_PASS_RUN, sl_now() - t0,
+                      "Ren table %s in %.2f s (built on %s; self-check vs fast: median %.2g, p95 "
+                      "%.2g); %s",
+                      r->ren.from_cache ? "loaded from the disk cache" : "built",
+                      r->ren.from_cache ? sl_now() - t0 : r->ren.build_s, r->ren.built_on,
+                      r->ren.err_median, r->ren.err_p95, r->srbf_why);
+    else if (use)
+        sl_frame_pass(r, "srbf", SL_PASS_CACHED, 0, "Ren table kept in memory; %s", r->srbf_why);
+    else
+        sl_frame_pass(r, "srbf", SL_PASS_SKIPPED, sl_now() - t0, "no table: %s", r->srbf_why);
     return 0;
 }
 
@@ -527,6 +721,7 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
             free_march(r);
             sl_march_opts mo;
             sl_march_opts_default(&mo);
+            mo.threads = sl_frame_threads(r);
             if (!grid_cached) {
                 free_volume(r);
                 if (sl_voxelize(r->dev, h, s->voxels, &r->vgrid, e)) {
@@ -618,19 +813,43 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     pts.T = sl_malloc(((size_t)nused * pts.n + 1) * sizeof *pts.T);
     pts.out = sl_malloc((pts.n * SL_SHADE_FLOATS + 1) * sizeof *pts.out);
     {
+        /* T_j = sum over lobe j's maps of w T (one map, w = 1, unless the lobe is broad) */
         double *Td = sl_malloc((pts.n + 1) * sizeof *Td);
-        for (int j = 0; j < nused; j++) {
-            if (sl_shadow_lookup(r->dev, &r->light[j], pts.n, pts.pos, Td, e)) {
+        double *Tj = sl_calloc((size_t)nused * pts.n + 1, sizeof *Tj);
+        for (int m = 0; m < r->nlights; m++) {
+            if (sl_shadow_lookup(r->dev, &r->light[m], pts.n, pts.pos, Td, e)) {
                 free(Td);
+                free(Tj);
                 goto done;
             }
+            double *t = Tj + (size_t)r->light_lobe[m] * pts.n;
             for (size_t i = 0; i < pts.n; i++)
-                pts.T[(size_t)j * pts.n + i] = (float)Td[i];
+                t[i] += r->light_w[m] * Td[i];
         }
+        for (size_t i = 0; i < (size_t)nused * pts.n; i++)
+            pts.T[i] = (float)Tj[i];
         free(Td);
+        free(Tj);
     }
     sl_frame_pass(r, "lookup", SL_PASS_RUN, sl_now() - t0,
                   "transmittance of %zu shading points toward %d lobes", pts.n, nused);
+    {
+        /* rows this frame shades (the same cut as sl_frame_shade's), split by whether the
+         * strand's sigma_a is the material's: only those can come from a table */
+        double share_sum = 0, rows = 0, rows_p = 0;
+        for (int j = 0; j < nused; j++)
+            share_sum += share[j];
+        for (size_t i = 0; i < pts.n; i++) {
+            int c = 0;
+            for (int j = 0; j < nused; j++)
+                c += pts.T[(size_t)j * pts.n + i] * share[j] >= s->point_threshold * share_sum;
+            if (painted(r, mat, &pts, i))
+                rows_p += c;
+            else
+                rows += c;
+        }
+        if (plan_srbf(r, mat, rows, rows_p, e)) goto done;
+    }
     t0 = sl_now();
     sl_shade_ctx sc = {mat,
                        lobes,
@@ -659,8 +878,7 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
         ratebuf,
         strcmp(s->shading_rate, "auto") ? "quality.shading_rate" : "auto, quality.auto_fragment_px",
         r->seg_px_median, pts.n, lobes_eval, pts.n ? lobes_eval / pts.n : 0.0, s->point_threshold,
-        r->strand_sigma_a ? ", per-strand sigma_a" : "",
-        r->o.srbf_method == SL_SRBF_METHOD_FAST ? "fast" : "xu",
+        r->strand_sigma_a ? ", per-strand sigma_a" : "", sl_render_method_name(r->srbf_used),
         sl_frame_srbf_on_device(r) ? "OpenCL"
         : r->dev->is_opencl ? "C (auto picked a CPU OpenCL device; the C twin is faster there)"
                             : "C");
@@ -697,6 +915,7 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
                   "front-to-back compositing of %dx%d pixels%s", r->vw, r->vh,
                   transparent ? "" : " (opaque hair: coverage alpha only)");
     rc = 0;
+    r->frames_done++;
 done:
     free(used);
     free(share);

@@ -5,11 +5,13 @@
  *   light pass  per lobe: deep opacity map (host/shadow.h), cached while geometry, lobes and
  *               shadow quality are unchanged (a camera orbit reuses every one)
  *   dual        dual-scattering material tables (host/dual.h), cached per material
+ *   srbf        the SRBF method (auto: Ren 2010's precomputed table, built / loaded / kept, or
+ *               the fast closed form; docs/frame.md "SRBF method", sl_renderer_set_editing)
  *   shade       per shading point (fragment, or strand vertex / every k-th vertex, interpolated):
- *               sum over lobes of SRBF response (kernels/srbf_fast.h or srbf_xu.h; C twin or the
- *               OpenCL kernel srbf_eval.cl) x effective transmittance T_j, plus multiple
- *               scattering (voxel grid + shadow-path march, host/volume.h, and the response
- *               per fragment and lobe, host/volume_ms.h)
+ *               sum over lobes of SRBF response (kernels/srbf_fast.h, srbf_xu.h or the table
+ *               of host/srbf_ren.h; C twins or OpenCL kernels) x effective transmittance T_j,
+ *               plus multiple scattering (voxel grid + shadow-path march, host/volume.h, and
+ *               the response per fragment and lobe, host/volume_ms.h)
  *   resolve     front-to-back compositing of each pixel's K entries into beauty + AOVs
  *
  *   sl_renderer r; sl_renderer_init(&r, &dev, NULL);
@@ -32,6 +34,8 @@
 #include "lobes_json.h"
 #include "scene.h"
 #include "shadow.h"
+#include "srbf_c.h"
+#include "srbf_ren.h"
 #include "srbf_tables.h"
 #include "volume.h"
 #include "volume_ms.h"
@@ -42,13 +46,36 @@
  * SL_FRAME_MS_AUTO_THRESHOLD and SL_FRAME_AUTO_FRAGMENT_PX are the defaults of the scene keys
  * quality.lobe_threshold, point_threshold, ms_auto_threshold, auto_fragment_px (host/scene.h). */
 
+/* SRBF response methods of the shading pass: SL_SRBF_METHOD_XU (0) and _FAST (1) of
+ * cpu/srbf_c.h, plus Ren 2010's precomputed table (host/srbf_ren.h) and the planner's choice
+ * between table and fast (docs/frame.md, "SRBF method"). */
+#define SL_RENDER_SRBF_TABLE 2
+#define SL_RENDER_SRBF_AUTO 3
+/* Parses "auto", "fast", "xu" or "table" into *method. Returns 0 or -1 with e set. */
+int sl_render_method_parse(const char *s, int *method, sl_err *e);
+/* "xu", "fast", "table", "auto". */
+const char *sl_render_method_name(int method);
+
+/* auto picks the table when frames x rows x SL_FRAME_TABLE_SAVING exceeds the table's build
+ * cost in `fast` evaluations (sl_srbf_ren_build_rows): the table lookup costs about a tenth of a
+ * `fast` RGB row (docs/srbf_ren.md, "Speed"), so each row shaded from the table saves 0.9 of
+ * one, and a build row costs about one (the same closed form, one channel). */
+#define SL_FRAME_TABLE_SAVING 0.9
+
 typedef struct sl_render_opts {
-    int srbf_method;       /* SL_SRBF_METHOD_FAST (default) or _XU (cpu/srbf_c.h) */
+    int srbf_method;       /* SL_RENDER_SRBF_AUTO (default), SL_SRBF_METHOD_FAST or _XU, or
+                              SL_RENDER_SRBF_TABLE */
     int segments;          /* m for xu (default 4) */
     int shadow_size;       /* deep opacity map size, 0: auto (256, 512 above 1M pixels) */
     double lobe_threshold; /* < 0 (default): the scene's quality.lobe_threshold; >= 0 overrides */
     int threads;           /* 0: every online CPU */
     int quiet;             /* no notes */
+    /* frames the caller will render with this material (render: --orbit N; 0: one), which the
+     * auto method weighs a table build against */
+    int frames;
+    /* the table's parameters (size, disk cache directory, build threads); NULL: the defaults
+     * (sl_srbf_ren_params_default, disk cache of sl_cache_dir_find) with `threads` */
+    const sl_srbf_ren_params *table_params;
 } sl_render_opts;
 void sl_render_opts_default(sl_render_opts *o);
 
@@ -79,8 +106,9 @@ typedef struct sl_renderer {
     int have_tables;
     sl_srbf_tables tables;
     uint64_t light_key;
-    int nlights;     /* lobes with a shadow map */
-    int *light_lobe; /* lobe index of each map */
+    int nlights;     /* shadow maps: one per used lobe, several for a broad lobe */
+    int *light_lobe; /* each map's position in the frame's used-lobe list */
+    double *light_w; /* each map's weight in its lobe's T (host/shadow_split.h) */
     sl_dodm *light;
     uint64_t dual_key;
     sl_dual_tables dual;
@@ -108,6 +136,18 @@ typedef struct sl_renderer {
     float *strand_sigma_a;
     uint32_t strand_sigma_a_n;
     uint64_t strand_key;
+    /* Ren 2010's table (docs/frame.md, "SRBF method"): built or loaded by the planner, kept
+     * while the material is unchanged (sl_srbf_ren_matches); ren_mem: the table resident on the
+     * OpenCL device (uploaded once per table) when shading runs there */
+    int have_ren;
+    sl_srbf_ren ren;
+    cl_mem ren_mem;
+    int editing;      /* sl_renderer_set_editing: the material is being edited -> fast */
+    long frames_done; /* frames rendered by this renderer (auto: frames left = o.frames - it) */
+    int srbf_used;    /* the last frame's method: SL_SRBF_METHOD_XU, _FAST or SL_RENDER_SRBF_TABLE
+                         (table: rows of strands with a per-strand sigma_a other than the
+                         material's still use fast) */
+    char srbf_why[300];
     /* last frame's plan */
     int npass;
     sl_pass_rec pass[SL_FRAME_MAX_PASSES];
@@ -125,6 +165,10 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
 /* Per-strand sigma_a overrides: n strands x 3 floats (copied), or sigma_a == NULL to clear.
  * n must equal the hair's strand count at the next frame (checked there). Returns 0 or -1. */
 int sl_renderer_set_strand_sigma_a(sl_renderer *r, const float *sigma_a, uint32_t n, sl_err *e);
+/* The material is being edited (1: every frame until cleared uses `fast` under the auto method,
+ * so no table is built or loaded while sliders move) or has settled (0). The viewer sets it
+ * while the material changes. */
+void sl_renderer_set_editing(sl_renderer *r, int editing);
 /* The last frame's plan, one line per pass: name, run/cached/skipped, why, seconds. */
 void sl_renderer_explain(const sl_renderer *r, FILE *f);
 /* The record of pass `name` in the last plan, NULL if it has none. */

@@ -6,6 +6,7 @@
 #include "srbf_c.h"
 #include "srbf_cl.h"
 #include "srbf_ref.h"
+#include "srbf_ren.h"
 #include "srbf_tables.h"
 #include "srbf_xu.h"
 
@@ -149,14 +150,65 @@ typedef struct run_ctx {
     int rep;       /* timing: each material's rows repeated rep times per batch */
     float *in_rep; /* the repeated rows (rep > 1) */
     float *out_rep;
+    /* Ren 2010's table (method M_TABLE, docs/srbf_ren.md): one per sample material, resident on
+     * the OpenCL device (ren_mem) for the opencl rows; out9: the lookups' 9 floats per row */
+    sl_srbf_ren ren[SL_SRBF_SAMPLE_MATERIALS];
+    cl_mem ren_mem[SL_SRBF_SAMPLE_MATERIALS];
+    float *out9;
 } run_ctx;
+
+/* The method code of the table rows (the closed forms use SL_SRBF_METHOD_*). */
+#define M_TABLE 100
+
+/* n table rows of material g: out 4 floats per row (I_R, I_TT, I_TRT, I of channel 0, as
+ * slc_srbf_batch writes them). OpenCL: the table stays resident, rows and results travel. */
+static int table_rows(run_ctx *r, int g, size_t n, const float *in, float *out, sl_err *e) {
+    if (r->cl) {
+        cl_context ctx = sl_cl_context(r->cl);
+        cl_int err = CL_SUCCESS;
+        if (!r->ren_mem[g]) {
+            r->ren_mem[g] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                           r->ren[g].n_floats * sizeof(float), r->ren[g].T, &err);
+            if (sl_cl_check(err, "clCreateBuffer", e)) {
+                r->ren_mem[g] = NULL;
+                return -1;
+            }
+        }
+        cl_mem bi = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                   n * 5 * sizeof(float), (void *)in, &err),
+               bo = NULL;
+        if (err == CL_SUCCESS)
+            bo = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, n * 9 * sizeof(float), NULL, &err);
+        int rc = sl_cl_check(err, "clCreateBuffer", e);
+        if (!rc) rc = slcl_srbf_ren_enqueue(r->cl, &r->ren[g].dims, r->ren_mem[g], n, bi, bo, e);
+        if (!rc)
+            rc = sl_cl_check(clEnqueueReadBuffer(sl_cl_queue(r->cl), bo, CL_TRUE, 0,
+                                                 n * 9 * sizeof(float), r->out9, 0, NULL, NULL),
+                             "clEnqueueReadBuffer", e);
+        if (bi) clReleaseMemObject(bi);
+        if (bo) clReleaseMemObject(bo);
+        if (rc) return -1;
+    } else {
+        slc_srbf_ren_batch(&r->ren[g], n, in, r->out9);
+    }
+    for (size_t i = 0; i < n; i++) {
+        const float *o = r->out9 + 9 * i;
+        out[4 * i] = o[0];
+        out[4 * i + 1] = o[3];
+        out[4 * i + 2] = o[6];
+        out[4 * i + 3] = o[0] + o[3] + o[6];
+    }
+    return 0;
+}
 
 /* One pass over the sample; out in sample order. */
 static int run_once(run_ctx *r, int method, int seg, float *tmp, float *out, sl_err *e) {
     for (int g = 0; g < SL_SRBF_SAMPLE_MATERIALS; g++) {
         size_t a = (size_t)r->start[g], cnt = (size_t)(r->start[g + 1] - r->start[g]);
         if (!cnt) continue;
-        if (r->cl) {
+        if (method == M_TABLE) {
+            if (table_rows(r, g, cnt, r->in + 5 * a, tmp + 4 * a, e)) return -1;
+        } else if (r->cl) {
             if (slcl_srbf_batch(r->cl, &r->fp[g], &r->t, method, seg, cnt, r->in + 5 * a,
                                 tmp + 4 * a, e))
                 return -1;
@@ -176,7 +228,9 @@ static int run_rep(run_ctx *r, int method, int seg, sl_err *e) {
         for (int k = 0; k < r->rep; k++)
             memcpy(r->in_rep + 5 * cnt * k, r->in + 5 * a, 5 * cnt * sizeof(float));
         size_t m = cnt * (size_t)r->rep;
-        if (r->cl) {
+        if (method == M_TABLE) {
+            if (table_rows(r, g, m, r->in_rep, r->out_rep, e)) return -1;
+        } else if (r->cl) {
             if (slcl_srbf_batch(r->cl, &r->fp[g], &r->t, method, seg, m, r->in_rep, r->out_rep, e))
                 return -1;
         } else
@@ -191,6 +245,7 @@ typedef struct result {
     sl_srbf_stats s;
     double evals_per_s;     /* wall clock */
     double evals_per_cpu_s; /* per CPU second of the process: per core */
+    sl_srbf_stats vs_fast;  /* table rows: against the C fast closed form it was built from */
 } result;
 
 static int measure(run_ctx *r, int method, int seg, double min_time, result *res, sl_err *e) {
@@ -198,6 +253,23 @@ static int measure(run_ctx *r, int method, int seg, double min_time, result *res
     float *out = sl_malloc((size_t)r->n * 4 * sizeof(float));
     int rc = run_once(r, method, seg, tmp, out, e); /* also warms up (kernel build) */
     if (!rc) sl_srbf_stats_of(r->x, r->n, out, &res->s);
+    if (!rc && method == M_TABLE) {
+        /* the table's own error: against the C fast closed form, as the "exact" values */
+        sl_cl *cl = r->cl;
+        float *fo = sl_malloc((size_t)r->n * 4 * sizeof(float));
+        sl_srbf_exact *fx = sl_malloc((size_t)r->n * sizeof *fx);
+        r->cl = NULL;
+        rc = run_once(r, SL_SRBF_METHOD_FAST, 0, tmp, fo, e);
+        r->cl = cl;
+        for (int i = 0; i < r->n; i++) {
+            fx[i] = r->x[i];
+            for (int t = 0; t < 4; t++)
+                fx[i].v[t] = fo[4 * i + t];
+        }
+        if (!rc) sl_srbf_stats_of(fx, r->n, out, &res->vs_fast);
+        free(fo);
+        free(fx);
+    }
     double t0 = sl_now(), c0 = cpu_now(), el = 0.0;
     long evals = 0;
     while (!rc && el < min_time) {
@@ -392,22 +464,27 @@ static int write_svg(const char *path, const result *r, int nr, sl_err *e) {
         if (!(r[i].evals_per_s > 0.0)) continue;
         double x = lx(1e9 / r[i].evals_per_s, tlo, thi, X0, X1);
         int fast = strcmp(r[i].method, "fast") == 0, ocl = strcmp(r[i].backend, "opencl") == 0;
-        const char *col = fast ? (ocl ? "#d62728" : "#ff7f0e") : (ocl ? "#1f77b4" : "#2ca02c");
+        int tab = strcmp(r[i].method, "table") == 0;
+        const char *col = tab    ? (ocl ? "#7b4173" : "#e377c2")
+                          : fast ? (ocl ? "#d62728" : "#ff7f0e")
+                                 : (ocl ? "#1f77b4" : "#2ca02c");
         double p = fmax(fmin(r[i].s.p95[3], ehi), elo), m = fmax(fmin(r[i].s.median[3], ehi), elo);
         double yp = lx(p, elo, ehi, Y0, Y1), ym = lx(m, elo, ehi, Y0, Y1);
         fprintf(f,
                 "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"4\" fill=\"%s\"/>"
                 "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"4\" fill=\"none\" stroke=\"%s\"/>"
                 "<text x=\"%.1f\" y=\"%.1f\" fill=\"%s\">%s%s%.0d</text>\n",
-                x, yp, col, x, ym, col, x + 6, yp - 3, col, fast ? "fast" : "xu m=", fast ? "" : "",
-                fast ? 0 : r[i].seg);
+                x, yp, col, x, ym, col, x + 6, yp - 3, col,
+                tab    ? "table"
+                : fast ? "fast"
+                       : "xu m=",
+                "", fast || tab ? 0 : r[i].seg);
     }
     double ly = 60;
-    const char *leg[4][2] = {{"#2ca02c", "xu, c"},
-                             {"#1f77b4", "xu, opencl"},
-                             {"#ff7f0e", "fast, c"},
-                             {"#d62728", "fast, opencl"}};
-    for (int k = 0; k < 4; k++, ly += 16)
+    const char *leg[6][2] = {{"#2ca02c", "xu, c"},    {"#1f77b4", "xu, opencl"},
+                             {"#ff7f0e", "fast, c"},  {"#d62728", "fast, opencl"},
+                             {"#e377c2", "table, c"}, {"#7b4173", "table, opencl"}};
+    for (int k = 0; k < 6; k++, ly += 16)
         fprintf(f,
                 "<circle cx=\"640\" cy=\"%g\" r=\"4\" fill=\"%s\"/><text x=\"650\" y=\"%g\">%s"
                 "</text>\n",
@@ -481,7 +558,19 @@ int sl_report_srbf(const sl_report_srbf_opts *o, sl_err *e) {
     r.in_rep = sl_malloc((size_t)n * 64 * 5 * sizeof(float));
     r.out_rep = sl_malloc((size_t)n * 64 * 4 * sizeof(float));
     if (!rc) rc = sl_srbf_tables_get(&r.t, 1, e);
-    result res[2 * (SL_SRBF_MAX_SEGMENTS + 1)];
+    /* one Ren table per sample material (built on the C path, or loaded from the disk cache) */
+    r.out9 = sl_malloc((size_t)n * 64 * 9 * sizeof(float));
+    int nren = 0;
+    for (int g = 0; g < SL_SRBF_SAMPLE_MATERIALS && !rc; g++, nren++) {
+        sl_material m;
+        sl_srbf_sample_material(g, &m);
+        sl_srbf_ren_params rp;
+        sl_srbf_ren_params_default(&rp);
+        rp.verbose = 1;
+        rc = sl_srbf_ren_get(NULL, &m, &rp, &r.ren[g], e);
+        if (rc) break;
+    }
+    result res[2 * (SL_SRBF_MAX_SEGMENTS + 2)];
     int nr = 0;
     sl_device dev;
     memset(&dev, 0, sizeof dev);
@@ -500,13 +589,18 @@ int sl_report_srbf(const sl_report_srbf_opts *o, sl_err *e) {
         for (int b = 0; b < 1 + have_cl && !rc; b++) {
             r.cl = b ? dev.cl : NULL;
             r.rep = b ? 64 : 1; /* OpenCL: large batches, the per-call upload amortised */
-            for (int mi = 0; mi <= SL_SRBF_MAX_SEGMENTS && !rc; mi++, k2++) {
+            for (int mi = 0; mi <= SL_SRBF_MAX_SEGMENTS + 1 && !rc; mi++, k2++) {
                 result q;
+                memset(&q, 0, sizeof q);
+                int tab = mi == SL_SRBF_MAX_SEGMENTS + 1;
                 q.backend = b ? "opencl" : "c";
-                q.method = mi == 0 ? "fast" : "xu";
-                q.seg = mi;
-                rc = measure(&r, mi == 0 ? SL_SRBF_METHOD_FAST : SL_SRBF_METHOD_XU, mi ? mi : 0,
-                             min_time / 3.0, &q, e);
+                q.method = tab ? "table" : mi == 0 ? "fast" : "xu";
+                q.seg = tab ? 0 : mi;
+                rc = measure(&r,
+                             tab       ? M_TABLE
+                             : mi == 0 ? SL_SRBF_METHOD_FAST
+                                       : SL_SRBF_METHOD_XU,
+                             tab ? 0 : mi, min_time / 3.0, &q, e);
                 if (rc) break;
                 if (round == 0)
                     res[nr++] = q;
@@ -534,6 +628,18 @@ int sl_report_srbf(const sl_report_srbf_opts *o, sl_err *e) {
                    s->p95[3], s->max[3], s->p95[0], s->p95[1], s->p95[2], s->median_above,
                    s->p95_above, res[i].evals_per_s, res[i].evals_per_cpu_s);
         }
+        printf("\nRen 2010's precomputed table (docs/srbf_ren.md; default size, one table per "
+               "sample material, resident on the device for opencl): error against exact as "
+               "above, and against the C fast closed form it is baked from\n\n"
+               "| method | backend | I median | I p95 | I max | vs fast: median | p95 | max | "
+               "lobe evals/s | per core (CPU s) |\n|---|---|---|---|---|---|---|---|---|---|\n");
+        for (int i = 0; i < nr; i++) {
+            if (strcmp(res[i].method, "table")) continue;
+            const sl_srbf_stats *s = &res[i].s, *f = &res[i].vs_fast;
+            printf("| table | %s | %.4f | %.4f | %.3f | %.4f | %.4f | %.3f | %.3g | %.3g |\n",
+                   res[i].backend, s->median[3], s->p95[3], s->max[3], f->median[3], f->p95[3],
+                   f->max[3], res[i].evals_per_s, res[i].evals_per_cpu_s);
+        }
         if (have_cl)
             printf("\nopencl: %s (batches of 64 copies of the sample's rows per material; rates "
                    "include "
@@ -546,6 +652,11 @@ int sl_report_srbf(const sl_report_srbf_opts *o, sl_err *e) {
     }
     if (!rc && o->csv) rc = write_csv(o->csv, res, nr, n, e);
     if (!rc && o->svg) rc = write_svg(o->svg, res, nr, e);
+    for (int g = 0; g < SL_SRBF_SAMPLE_MATERIALS; g++)
+        if (r.ren_mem[g]) clReleaseMemObject(r.ren_mem[g]);
+    for (int g = 0; g < nren; g++)
+        sl_srbf_ren_free(&r.ren[g]);
+    free(r.out9);
     if (have_cl) sl_device_close(&dev);
     sl_srbf_tables_free(&r.t);
     free(r.in);

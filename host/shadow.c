@@ -10,8 +10,10 @@
 #include "raster_cl.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 void sl_shadow_opts_default(sl_shadow_opts *o) {
     o->size = SL_SHADOW_DEFAULT_SIZE;
@@ -19,6 +21,7 @@ void sl_shadow_opts_default(sl_shadow_opts *o) {
     o->kappa = 1.0;
     o->seed = 1;
     o->z0_radius = 0;
+    o->threads = 0;
 }
 
 /* The automatic z0 window: its width (2 m + 2 texels with the tent footprint) spans
@@ -39,7 +42,12 @@ static int auto_z0_radius(const sl_hair *h, double kappa, double texel) {
 double sl_shadow_support_angle(double lambda) {
     /* exp(2 (cos a - 1) / lambda^2) = G  =>  cos a = 1 + lambda^2 ln(G) / 2 */
     double c = 1.0 + lambda * lambda * log(SL_SHADOW_SUPPORT_G) / 2.0;
-    return c <= -1.0 ? M_PI : acos(c);
+    double a = c <= -1.0 ? M_PI : acos(c), amax = SL_SHADOW_SUPPORT_MAX_DEG * M_PI / 180.0;
+    /* Capped: from lambda ~0.29 on, the 1e-3 support passes 30 degrees and by 0.54 reaches 90,
+     * where the filter box covered the whole map and T -> 1 for every point (measured: T 0.91-0.97
+     * against the ray-traced 0.15-0.18 for lambda >= 0.52 at the default scene's vertices; with
+     * the cap 0.175 against 0.163; docs/shadow.md, docs/results.md). */
+    return a < amax ? a : amax;
 }
 
 static double dot3(const double a[3], const double b[3]) {
@@ -108,6 +116,7 @@ typedef struct prep {
     int z0_radius;
     float lo[3], hi[3];
     double margin;
+    int threads; /* C path */
 } prep;
 
 static void prep_free(prep *p) {
@@ -165,6 +174,15 @@ static int prep_make(const sl_hair *h, const sl_shadow_opts *o, prep *p, sl_err 
         : o->z0_radius > 0
             ? (o->z0_radius > SL_SHADOW_Z0_MAX_RADIUS ? SL_SHADOW_Z0_MAX_RADIUS : o->z0_radius)
             : auto_z0_radius(h, o->kappa, v.texel);
+    p->threads = o->threads;
+    if (p->threads <= 0) {
+        long nc = sysconf(_SC_NPROCESSORS_ONLN);
+        p->threads = nc < 1 ? 1 : (int)nc;
+        /* automatic: below a few thousand segments a thread costs more than it saves */
+        if ((size_t)p->threads > p->nseg / 2048 + 1) p->threads = (int)(p->nseg / 2048 + 1);
+    }
+    if (p->threads > SL_SHADOW_MAX_THREADS) p->threads = SL_SHADOW_MAX_THREADS;
+    if ((size_t)p->threads > p->nseg) p->threads = p->nseg ? (int)p->nseg : 1;
     return 0;
 }
 
@@ -319,30 +337,115 @@ done:
     return rc;
 }
 
-/* The C twin of build_cl: the same records (slc_raster_project), then per lobe the passes. */
+/* One thread's share of a C-path step for one lobe: segments s0 .. s1 - 1 (z0 and layers into
+ * this thread's own planes). */
+typedef struct rjob {
+    int step; /* 0 project, 1 first depth, 2 layers */
+    const sl_hair *h;
+    const prep *p;
+    const struct sl_shadow_group *g;
+    const float *view; /* step 0: the lobe's view (SL_RASTER_VIEW floats) */
+    float *recs;       /* step 0 output: the lobe's records */
+    const float *rec;  /* steps 1, 2: the lobe's records */
+    size_t s0, s1;
+    int w, hh;
+    unsigned K;
+    float d;
+    const uint32_t *z0; /* step 2: the lobe's final (dilated) first depth */
+    uint32_t *z0out;    /* step 1 output: one plane */
+    uint64_t *bins;     /* step 2 output: K planes */
+} rjob;
+
+static void *rjob_run(void *arg) {
+    rjob *j = arg;
+    const float *r = j->rec + j->s0 * SL_RASTER_REC;
+    if (j->step == 0) {
+        for (size_t s = j->s0; s < j->s1; s++)
+            sl_raster_project_seg(j->h->pos, j->p->seg, j->p->hw, j->view, (sl_uint)j->p->nseg, 0,
+                                  (sl_uint)s, (float)j->p->scale, j->recs);
+    } else if (j->step == 1) {
+        slc_raster_z0(r, j->s1 - j->s0, j->w, j->hh, j->z0out);
+    } else {
+        slc_raster_layers(r, j->s1 - j->s0, j->w, j->hh, j->K, j->d, j->z0, j->bins);
+    }
+    return NULL;
+}
+
+/* Runs job[0 .. nt - 1], job 0 on the calling thread (a thread that cannot start runs there
+ * too: the result does not depend on where a job runs). */
+static void rjobs_run(rjob *job, int nt) {
+    pthread_t tid[SL_SHADOW_MAX_THREADS];
+    int started[SL_SHADOW_MAX_THREADS] = {0};
+    for (int t = 1; t < nt; t++)
+        started[t] = pthread_create(&tid[t], NULL, rjob_run, &job[t]) == 0;
+    for (int t = 0; t < nt; t++)
+        if (!started[t]) rjob_run(&job[t]);
+    for (int t = 1; t < nt; t++)
+        if (started[t]) pthread_join(tid[t], NULL);
+}
+
+/* The C twin of build_cl: the same records (sl_raster_project_seg), then the passes, one lobe
+ * at a time (its records, 48 bytes a segment, stay in cache; a whole group's would not).
+ * Threads split the segments into contiguous ranges; each rasterizes its range into its own
+ * planes (thread 0 into the lobe's), which are then merged: first depth by minimum, layers by
+ * 64-bit integer sums; both exact and order-independent, so the maps equal the one-thread maps
+ * (and the kernel's) bit for bit whatever the thread count. */
 static void build_c(const sl_hair *h, const prep *p, sl_shadow_batch *b) {
     const int w = b->map[0].view.w, hh = b->map[0].view.h;
     const size_t plane = (size_t)w * hh;
     const unsigned K = b->map[0].K;
-    const unsigned nmax = b->n < SL_SHADOW_BATCH ? (unsigned)b->n : SL_SHADOW_BATCH;
-    float *recs = sl_malloc((p->nseg ? p->nseg : 1) * nmax * SL_RASTER_REC * sizeof *recs);
+    const int nt = p->threads < 1 ? 1 : p->threads;
+    float *recs = sl_malloc((p->nseg ? p->nseg : 1) * SL_RASTER_REC * sizeof *recs);
     uint32_t *tmp = sl_malloc(plane * sizeof *tmp);
+    /* planes of threads 1 .. nt - 1 */
+    uint32_t *xz0 = nt > 1 ? sl_malloc((size_t)(nt - 1) * plane * sizeof *xz0) : NULL;
+    uint64_t *xbins = nt > 1 ? sl_malloc((size_t)(nt - 1) * K * plane * sizeof *xbins) : NULL;
+    rjob job[SL_SHADOW_MAX_THREADS];
     for (int gi = 0; gi < b->ngroups; gi++) {
         struct sl_shadow_group *g = &b->group[gi];
         g->z0 = sl_malloc(g->nl * plane * sizeof *g->z0);
         g->sat = sl_malloc((size_t)g->nl * K * plane * sizeof *g->sat);
-        double t0 = sl_now();
-        slc_raster_project(h->pos, p->seg, p->hw, g->views, p->nseg, g->nl, (float)p->scale, recs);
-        double t1 = sl_now();
-        b->project_s += t1 - t0;
         for (unsigned l = 0; l < g->nl; l++) {
-            const float *r = recs + (size_t)l * p->nseg * SL_RASTER_REC;
             uint32_t *z0 = g->z0 + l * plane;
             uint64_t *sat = g->sat + (size_t)l * K * plane;
+            double t0 = sl_now();
+            for (int t = 0; t < nt; t++) {
+                job[t] = (rjob){0};
+                job[t].h = h;
+                job[t].p = p;
+                job[t].view = g->views + l * SL_RASTER_VIEW;
+                job[t].recs = recs;
+                job[t].rec = recs;
+                job[t].s0 = p->nseg * t / nt;
+                job[t].s1 = p->nseg * (t + 1) / nt;
+                job[t].w = w;
+                job[t].hh = hh;
+                job[t].K = K;
+                job[t].d = g->params[l * SL_DODM_PARAMS];
+                job[t].z0 = z0;
+                job[t].z0out = t ? xz0 + (size_t)(t - 1) * plane : z0;
+                job[t].bins = t ? xbins + (size_t)(t - 1) * K * plane : sat;
+            }
+            rjobs_run(job, nt);
             double t2 = sl_now();
-            slc_raster_z0(r, p->nseg, w, hh, z0);
+            b->project_s += t2 - t0;
+            for (int t = 0; t < nt; t++)
+                job[t].step = 1;
+            rjobs_run(job, nt);
+            for (int t = 1; t < nt; t++) {
+                const uint32_t *q = xz0 + (size_t)(t - 1) * plane;
+                for (size_t i = 0; i < plane; i++)
+                    z0[i] = q[i] < z0[i] ? q[i] : z0[i];
+            }
             slc_raster_z0_dilate(z0, w, hh, p->z0_radius, tmp);
-            slc_raster_layers(r, p->nseg, w, hh, K, g->params[l * SL_DODM_PARAMS], z0, sat);
+            for (int t = 0; t < nt; t++)
+                job[t].step = 2;
+            rjobs_run(job, nt);
+            for (int t = 1; t < nt; t++) {
+                const uint64_t *q = xbins + (size_t)(t - 1) * K * plane;
+                for (size_t i = 0; i < K * plane; i++)
+                    sat[i] += q[i];
+            }
             double t3 = sl_now();
             slc_dodm_cumulate(sat, plane, K);
             slc_dodm_sat(sat, w, hh, K);
@@ -350,11 +453,14 @@ static void build_c(const sl_hair *h, const prep *p, sl_shadow_batch *b) {
             b->tables_s += sl_now() - t3;
             sl_dodm *m = &b->map[g->l0 + l];
             for (size_t s = 0; s < p->nseg; s++)
-                m->samples += (size_t)r[s * SL_RASTER_REC + 9] * (size_t)r[s * SL_RASTER_REC + 10];
+                m->samples +=
+                    (size_t)recs[s * SL_RASTER_REC + 9] * (size_t)recs[s * SL_RASTER_REC + 10];
         }
     }
     free(recs);
     free(tmp);
+    free(xz0);
+    free(xbins);
 }
 
 int sl_shadow_build_batch(sl_device *dev, const sl_hair *h, int n, const double *dirs,
@@ -517,6 +623,43 @@ int sl_shadow_build(sl_device *dev, const sl_hair *h, const double dir[3], doubl
     return rc;
 }
 
+/* One thread's points of a C-path lookup. */
+typedef struct ljob {
+    const sl_dodm *m;
+    const float *pts;
+    size_t n;
+    float *t;
+} ljob;
+
+static void *ljob_run(void *arg) {
+    const ljob *j = arg;
+    const sl_dodm *m = j->m;
+    slc_dodm_lookup(m->z0bits, m->sat, m->view.w, m->view.h, m->K, m->d, m->rfac, m->inv_scale,
+                    j->pts, j->n, j->t);
+    return NULL;
+}
+
+/* The C lookup, in threads over contiguous point ranges when there are enough points (every
+ * point's T depends only on the map and the point: the same values for any split). */
+static void lookup_c(const sl_dodm *m, const float *pts, size_t n, float *t) {
+    enum { PER_THREAD = 4096 };
+    long nc = sysconf(_SC_NPROCESSORS_ONLN);
+    int nt = nc < 1 ? 1 : (nc > SL_SHADOW_MAX_THREADS ? SL_SHADOW_MAX_THREADS : (int)nc);
+    if ((size_t)nt > n / PER_THREAD + 1) nt = (int)(n / PER_THREAD + 1);
+    ljob job[SL_SHADOW_MAX_THREADS];
+    pthread_t tid[SL_SHADOW_MAX_THREADS];
+    int started[SL_SHADOW_MAX_THREADS] = {0};
+    for (int i = 0; i < nt; i++) {
+        size_t a = n * i / nt, b = n * (i + 1) / nt;
+        job[i] = (ljob){m, pts + 3 * a, b - a, t + a};
+        started[i] = i > 0 && pthread_create(&tid[i], NULL, ljob_run, &job[i]) == 0;
+    }
+    for (int i = 0; i < nt; i++)
+        if (!started[i]) ljob_run(&job[i]);
+    for (int i = 1; i < nt; i++)
+        if (started[i]) pthread_join(tid[i], NULL);
+}
+
 int sl_shadow_lookup(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz, double *T,
                      sl_err *e) {
     float *pts = sl_malloc((n ? n : 1) * 3 * sizeof *pts), *t = sl_malloc((n ? n : 1) * sizeof *t);
@@ -535,9 +678,7 @@ int sl_shadow_lookup(sl_device *dev, const sl_dodm *m, size_t n, const double *x
         else
             rc = 0; /* done, or dev is now the C path */
     }
-    if (!rc && !dev->is_opencl)
-        slc_dodm_lookup(m->z0bits, m->sat, m->view.w, m->view.h, m->K, m->d, m->rfac, m->inv_scale,
-                        pts, n, t);
+    if (!rc && !dev->is_opencl) lookup_c(m, pts, n, t);
     if (!rc)
         for (size_t i = 0; i < n; i++)
             T[i] = t[i];

@@ -36,8 +36,12 @@
 #define SL_SHADOW_MAX_SIZE 8192
 /* SRBF support threshold (Ren 2010 Sec. 5): G(alpha) = this defines the support angle alpha. */
 #define SL_SHADOW_SUPPORT_G 1e-3
+/* ... and at most this wide (degrees): wider boxes average the whole map (see shadow.c) */
+#define SL_SHADOW_SUPPORT_MAX_DEG 30.0
 /* Lobes rasterized per kernel launch (Ren 2010 uses 16). */
 #define SL_SHADOW_BATCH 16
+/* Most C-path threads of one build (sl_shadow_opts.threads). */
+#define SL_SHADOW_MAX_THREADS 16
 /* Automatic first-depth window (sl_shadow_opts.z0_radius = 0): the min filter of z0 spans about
  * this many fiber widths (2 r / kappa), so a texel's layers start where the first of the fibers
  * over that window lies; the optical depth missed above the layers is ~1 / (this + 1)
@@ -53,6 +57,9 @@ typedef struct sl_shadow_opts {
     /* Half-size (texels) of the min filter applied to the first-depth map z0 before the layers
      * are filled: 0 = automatic (SL_SHADOW_Z0_FIBERS), < 0 = none (Ren's per-texel z0). */
     int z0_radius;
+    /* C path: threads rasterizing each map (segments split in contiguous ranges; the fixed-point
+     * sums are exact, so the maps are the same for any count). 0 = every CPU (at most 16). */
+    int threads;
 } sl_shadow_opts;
 
 /* An orthographic light view: world p -> (u, v) texels = ((p - origin).ex, (p - origin).ey) /
@@ -80,7 +87,7 @@ typedef struct sl_dodm {
 void sl_shadow_opts_default(sl_shadow_opts *o);
 
 /* Support angle alpha of G(omega; xi, lambda) = exp(2 (cos - 1) / lambda^2): G(alpha) =
- * SL_SHADOW_SUPPORT_G; pi when the lobe is wider than that everywhere. */
+ * SL_SHADOW_SUPPORT_G, capped at SL_SHADOW_SUPPORT_MAX_DEG (broad lobes). */
 double sl_shadow_support_angle(double lambda);
 
 /* The view along light direction -dir (dir points toward the light) that covers the bounding

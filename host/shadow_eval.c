@@ -8,6 +8,7 @@
 #include "scene_hair.h"
 #include "scene.h"
 #include "shadow.h"
+#include "shadow_split.h"
 #include "transmittance_ref.h"
 
 #include <math.h>
@@ -49,32 +50,54 @@ int sl_shadow_eval_transmittance(const char *scene_path, sl_eval_backend b, sl_c
     if (s->shadow_size > 0) o.size = s->shadow_size;
     if (s->layers > 0) o.layers = s->layers;
     if (s->kappa > 0 && s->kappa <= 1) o.kappa = s->kappa;
-    /* one batched light pass for the lobes the rows use (maps stay on the device), then one
-     * lookup of every row toward its own lobe */
-    int *used = sl_malloc((size_t)lobes.count * sizeof *used), nused = 0;
-    double *dirs = sl_malloc(3 * (size_t)lobes.count * sizeof *dirs),
-           *lam = sl_malloc((size_t)lobes.count * sizeof *lam);
-    int *lb = sl_malloc(n * sizeof *lb);
+    /* one batched light pass for the lobes the rows use (maps stay on the device), a broad lobe
+     * split into its shadow directions (shadow_split.h), then lookups of every row toward its
+     * lobe's directions, combined with their weights */
+    int *used = sl_malloc((size_t)lobes.count * sizeof *used), nmaps = 0;
+    size_t cap = (size_t)lobes.count * SL_SHADOW_SPLIT_N;
+    double *dirs = sl_malloc(3 * cap * sizeof *dirs), *lam = sl_malloc(cap * sizeof *lam),
+           *wmap = sl_malloc(cap * sizeof *wmap);
+    int *first = sl_malloc(((size_t)lobes.count + 1) * sizeof *first),
+        *count = sl_malloc((size_t)lobes.count * sizeof *count);
     for (int j = 0; j < lobes.count; j++)
         used[j] = -1;
     for (size_t i = 0; i < n; i++) {
         int j = (int)in[4 * i + 3];
-        if (used[j] < 0) {
-            used[j] = nused;
-            memcpy(dirs + 3 * nused, lobes.lobe[j].dir, 3 * sizeof *dirs);
-            lam[nused++] = lobes.lobe[j].lambda;
-        }
-        lb[i] = used[j];
+        if (used[j] >= 0) continue;
+        used[j] = 1;
+        first[j] = nmaps;
+        count[j] = sl_shadow_split(lobes.lobe[j].dir, lobes.lobe[j].lambda, dirs + 3 * nmaps,
+                                   wmap + nmaps);
+        for (int q = 0; q < count[j]; q++)
+            lam[nmaps + q] = lobes.lobe[j].lambda;
+        nmaps += count[j];
     }
-    double *xyz = sl_malloc(3 * n * sizeof *xyz);
+    int nused = nmaps;
+    size_t nx = 0;
     for (size_t i = 0; i < n; i++)
-        memcpy(xyz + 3 * i, in + 4 * i, 3 * sizeof *xyz);
+        nx += (size_t)count[(int)in[4 * i + 3]];
+    double *xyz = sl_malloc(3 * nx * sizeof *xyz), *Tx = sl_malloc(nx * sizeof *Tx);
+    int *lb = sl_malloc(nx * sizeof *lb);
+    for (size_t i = 0, r = 0; i < n; i++) {
+        int j = (int)in[4 * i + 3];
+        for (int q = 0; q < count[j]; q++, r++) {
+            memcpy(xyz + 3 * r, in + 4 * i, 3 * sizeof *xyz);
+            lb[r] = first[j] + q;
+        }
+    }
     sl_shadow_batch sb;
     double t0 = sl_now();
     rc = sl_shadow_build_batch(&dev, &h, nused, dirs, lam, &o, &sb, e);
     if (!rc) {
         double t1 = sl_now();
-        rc = sl_shadow_batch_lookup(&sb, n, xyz, lb, out, e);
+        rc = sl_shadow_batch_lookup(&sb, nx, xyz, lb, Tx, e);
+        for (size_t i = 0, r = 0; i < n && !rc; i++) {
+            int j = (int)in[4 * i + 3];
+            double t = 0;
+            for (int q = 0; q < count[j]; q++, r++)
+                t += wmap[first[j] + q] * Tx[r];
+            out[i] = t;
+        }
         double t2 = sl_now();
         /* SL_SHADOW_TIMES=1 (test/bench_shadow.sh): one line of light-pass times on stderr */
         const char *tv = getenv("SL_SHADOW_TIMES");
@@ -91,6 +114,10 @@ int sl_shadow_eval_transmittance(const char *scene_path, sl_eval_backend b, sl_c
     free(lam);
     free(lb);
     free(xyz);
+    free(Tx);
+    free(wmap);
+    free(first);
+    free(count);
 done:
     sl_lobes_free(&lobes);
     sl_hair_free(&h);

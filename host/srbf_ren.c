@@ -467,6 +467,58 @@ int sl_srbf_ren_get(sl_device *dev, const sl_material *m, const sl_srbf_ren_para
     return 0;
 }
 
+double sl_srbf_ren_build_rows(const sl_material *m, const sl_srbf_ren_params *p_in) {
+    sl_srbf_ren_params p;
+    if (p_in)
+        p = *p_in;
+    else
+        sl_srbf_ren_params_default(&p);
+    /* the count build() evaluates: R once, TT and TRT per distinct channel, 4 rotations for an
+     * eccentric fiber */
+    int nch = m->sigma_a[0] == m->sigma_a[1] && m->sigma_a[0] == m->sigma_a[2] ? 1 : 3;
+    int npsi = m->eccentricity != 1.0 ? 4 : 1;
+    return (double)p.n_h * p.n_t * p.n_phi * p.n_lambda * npsi * (1 + 2 * nch);
+}
+
+int sl_srbf_ren_cached(const sl_material *m, const sl_srbf_ren_params *p_in,
+                       const sl_srbf_tables *ft_in) {
+    sl_srbf_ren_params p;
+    if (p_in)
+        p = *p_in;
+    else
+        sl_srbf_ren_params_default(&p);
+    if (m->model != SL_MODEL_MARSCHNER || check_params(&p, NULL)) return 0;
+    char dir[4000];
+    int have_dir;
+    if (p.cache_dir)
+        have_dir = p.cache_dir[0] != 0 && snprintf(dir, sizeof dir, "%s", p.cache_dir) > 0;
+    else
+        have_dir = sl_cache_dir_find(dir, sizeof dir);
+    if (!have_dir) return 0;
+    sl_srbf_tables own;
+    const sl_srbf_tables *ft = ft_in;
+    if (!ft) {
+        sl_err e2 = {{0}};
+        if (sl_srbf_tables_get(&own, 0, &e2)) return 0;
+        ft = &own;
+    }
+    uint64_t key = ren_key(m, &p, ft);
+    if (!ft_in) sl_srbf_tables_free(&own);
+    char path[4200];
+    snprintf(path, sizeof path, "%s/srbf-ren-%016llx.bin", dir, (unsigned long long)key);
+    /* the header only (magic, key, size): sl_srbf_ren_get still verifies the data's checksum and
+     * rebuilds a damaged file, so a 1 here is a promise of a cheap load, not of a valid table */
+    size_t n_floats = warp_floats(&p) + 9 * (size_t)p.n_h * p.n_t * p.n_phi * p.n_lambda;
+    FILE *f = fopen(path, "rb");
+    if (!f) return 0;
+    ren_head h;
+    int ok = fread(&h, sizeof h, 1, f) == 1 && memcmp(h.magic, REN_MAGIC, 8) == 0 && h.key == key &&
+             h.n_floats == n_floats;
+    if (ok) ok = fseek(f, 0, SEEK_END) == 0 && ftell(f) == (long)(sizeof h + n_floats * 4);
+    fclose(f);
+    return ok;
+}
+
 void sl_srbf_ren_free(sl_srbf_ren *t) {
     free(t->T);
     t->T = NULL;

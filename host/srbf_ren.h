@@ -19,6 +19,7 @@
 #include "common.h"
 #include "material.h"
 #include "srbf_ren_c.h"
+#include "srbf_tables.h"
 
 /* Random points at which a freshly built table checks itself against the closed form. */
 #define SL_SRBF_REN_CHECK_POINTS 4096
@@ -42,6 +43,15 @@ void sl_srbf_ren_params_default(sl_srbf_ren_params *p);
 int sl_srbf_ren_get(sl_device *dev, const sl_material *m, const sl_srbf_ren_params *p,
                     sl_srbf_ren *t, sl_err *e);
 void sl_srbf_ren_free(sl_srbf_ren *t);
+
+/* 1 when a cache file for material m and parameters p (NULL: defaults) exists with the right
+ * header and size (sl_srbf_ren_get would load it rather than build; it still verifies the data).
+ * ft: the fast path's tables (part of the key), NULL to load them here. The frame planner's
+ * "cached on disk" test (docs/frame.md). */
+int sl_srbf_ren_cached(const sl_material *m, const sl_srbf_ren_params *p, const sl_srbf_tables *ft);
+/* `fast` evaluations a build of the table for m costs (the planner weighs it against the rows a
+ * sequence of frames would shade): nodes x rotations (4 when eccentric) x (1 + 2 x channels). */
+double sl_srbf_ren_build_rows(const sl_material *m, const sl_srbf_ren_params *p);
 
 /* Hash of every material field the response depends on; sl_srbf_ren_matches: 1 when t was built
  * for exactly this material (the frame planner's "material unchanged since the build"). */

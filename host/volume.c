@@ -13,6 +13,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 void sl_voxel_grid_layout(const sl_hair *hair, int voxels, sl_voxel_grid *g) {
     memset(g, 0, sizeof *g);
@@ -124,6 +125,7 @@ void sl_march_opts_default(sl_march_opts *o) {
     o->coarse = 4;
     o->paths = 16;
     o->seed = 1;
+    o->threads = 0;
 }
 
 /* Coarse vertices with hair within one coarse cell (any voxel of density > 0 in one of the 8
@@ -204,8 +206,14 @@ int sl_march_build(sl_device *dev, const sl_voxel_grid *g, const sl_dual_tables 
     }
     if (!done) {
         double t0 = sl_now();
-        slc_march(g->vox, g->n, g->lo, g->h, tabs, verts, ids, na, fd, (size_t)nlobes, paths,
-                  o->seed, oT, oS);
+        int nt = o->threads;
+        if (nt <= 0) {
+            long nc = sysconf(_SC_NPROCESSORS_ONLN);
+            nt = nc < 1 ? 1 : (int)nc;
+            if ((size_t)nt > nout / 64 + 1) nt = (int)(nout / 64 + 1); /* small jobs: fewer */
+        }
+        slc_march_threads(g->vox, g->n, g->lo, g->h, tabs, verts, ids, na, fd, (size_t)nlobes,
+                          paths, o->seed, oT, oS, nt);
         f->seconds = sl_now() - t0;
     }
     for (int l = 0; l < nlobes; l++)
@@ -215,6 +223,10 @@ int sl_march_build(sl_device *dev, const sl_voxel_grid *g, const sl_dual_tables 
             memcpy(f->T + dst, oT + src, SL_MARCH_CH * sizeof *oT);
             memcpy(f->sigma + dst, oS + src, SL_MARCH_CH * sizeof *oS);
         }
+    /* the logs sl_ftex_lookup would take of the 8 corners of every lookup, once per texel */
+    f->logT = sl_malloc((nlobes ? nlobes : 1) * nvert * SL_MARCH_CH * sizeof *f->logT);
+    for (size_t i = 0; i < (size_t)nlobes * nvert * SL_MARCH_CH; i++)
+        f->logT[i] = sl_ftex_log_texel(f->T[i]);
     rc = 0;
 out:
     free(ids);
@@ -229,8 +241,12 @@ out:
 void sl_ftex_lookup(const sl_ftex *f, int lobe, const double p[3], float T[3], float sigma[3]) {
     size_t nvert = (size_t)f->m[0] * f->m[1] * f->m[2];
     float pf[3] = {(float)p[0], (float)p[1], (float)p[2]};
-    sl_ftex_sample(f->T + (size_t)lobe * nvert * SL_MARCH_CH, f->m[0], f->m[1], f->m[2], f->lo,
-                   f->H, pf, 1, T);
+    if (f->logT)
+        sl_ftex_sample(f->logT + (size_t)lobe * nvert * SL_MARCH_CH, f->m[0], f->m[1], f->m[2],
+                       f->lo, f->H, pf, 2, T);
+    else
+        sl_ftex_sample(f->T + (size_t)lobe * nvert * SL_MARCH_CH, f->m[0], f->m[1], f->m[2], f->lo,
+                       f->H, pf, 1, T);
     sl_ftex_sample(f->sigma + (size_t)lobe * nvert * SL_MARCH_CH, f->m[0], f->m[1], f->m[2], f->lo,
                    f->H, pf, 0, sigma);
 }
@@ -238,5 +254,6 @@ void sl_ftex_lookup(const sl_ftex *f, int lobe, const double p[3], float T[3], f
 void sl_ftex_free(sl_ftex *f) {
     free(f->T);
     free(f->sigma);
-    f->T = f->sigma = NULL;
+    free(f->logT);
+    f->T = f->sigma = f->logT = NULL;
 }

@@ -55,8 +55,9 @@ typedef struct sl_march_opts {
     int coarse;    /* voxels per coarse cell (Ren: 4) */
     int paths;     /* shadow paths per vertex and lobe */
     uint32_t seed; /* random streams: hash of (seed, vertex, lobe, path, step) */
+    int threads;   /* C path threads; 0 = every CPU (the textures do not depend on it) */
 } sl_march_opts;
-void sl_march_opts_default(sl_march_opts *o); /* coarse 4, paths 16, seed 1 */
+void sl_march_opts_default(sl_march_opts *o); /* coarse 4, paths 16, seed 1, threads 0 */
 
 /* Per-lobe 3-D textures of T_f and sigma_f (SL_MARCH_CH = 3 channels per vertex; a material with
  * one channel has three equal ones). Vertices m[0] x m[1] x m[2] at lo + k H (x fastest);
@@ -67,6 +68,7 @@ typedef struct sl_ftex {
     int nlobes;
     size_t active;    /* vertices marched (per lobe) */
     float *T, *sigma; /* nlobes * m[0] m[1] m[2] * SL_MARCH_CH each */
+    float *logT;      /* ln(max(T, 1e-30)) per texel (sl_ftex_lookup's log-space T_f), or NULL */
     double seconds;   /* C time or device time of the march */
 } sl_ftex;
 

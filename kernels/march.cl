@@ -15,7 +15,7 @@ __kernel void sl_march(__global const float *vox, int nx, int ny, int nz, float 
     float x[3] = {verts[3 * v], verts[3 * v + 1], verts[3 * v + 2]};
     float w[3] = {dirs[3 * lobe], dirs[3 * lobe + 1], dirs[3 * lobe + 2]};
     float Tf[SL_MARCH_CH], sf[SL_MARCH_CH];
-    sl_march_vertex(vox, nx, ny, nz, lo, h, tabs, x, w, seed, vert_ids[v], lobe, paths, Tf, sf);
+    sl_march_vertex(vox, nx, ny, nz, lo, h, tabs, x, w, seed, vert_ids[v], lobe, paths, 0, Tf, sf);
     for (int c = 0; c < SL_MARCH_CH; c++) {
         outT[(size_t)g * SL_MARCH_CH + c] = Tf[c];
         outS[(size_t)g * SL_MARCH_CH + c] = sf[c];

@@ -58,12 +58,19 @@ SL_INLINE float sl_march_exit(const float *x, const float *w, int nx, int ny, in
     return t < SL_FLT_MAX ? sl_maxf(t, 0.0f) : 0.0f;
 }
 
+/* Probability of an event in one step of length delta through voxel vx (density > 0) toward w. */
+SL_INLINE float sl_march_event_p(SL_GLOBAL const float *vx, const float *w, float delta) {
+    return 1.0f - exp(-vx[SL_VOX_SIGMA] * sl_vox_alpha(vx, w[0], w[1], w[2]) * delta);
+}
+
 /* One shadow path from x toward w; T and s2 (SL_MARCH_CH each) start at 1 and 0. tabs: SL_MARCH_CH
- * dual tables (SL_DUAL_TABLE_FLOATS each). Returns the number of events. */
+ * dual tables (SL_DUAL_TABLE_FLOATS each). ptab: 0, or this lobe's sl_march_event_p of every
+ * voxel (0 where sigma is 0) precomputed with delta = 0.5 h (the C twin: one exp per voxel
+ * instead of one per step; the same floats, so the same events). Returns the number of events. */
 SL_INLINE int sl_march_path(SL_GLOBAL const float *vox, int nx, int ny, int nz, const float *lo,
                             float h, SL_GLOBAL const float *tabs, const float *x, const float *w,
-                            sl_uint seed, sl_uint vert, sl_uint lobe, sl_uint path, float *T,
-                            float *s2) {
+                            sl_uint seed, sl_uint vert, sl_uint lobe, sl_uint path,
+                            SL_GLOBAL const float *ptab, float *T, float *s2) {
     const float delta = 0.5f * h, inv_h = 1.0f / h;
     const float tex = sl_march_exit(x, w, nx, ny, nz, lo, h);
     const float j = sl_march_rand(seed, vert, lobe, path, 0xffffffffu);
@@ -79,8 +86,16 @@ SL_INLINE int sl_march_path(SL_GLOBAL const float *vox, int nx, int ny, int nz, 
                              lo[1], lo[2], inv_h);
         if (v < 0) continue;
         SL_GLOBAL const float *vx = vox + (size_t)v * SL_VOX_FIELDS;
-        if (!(vx[SL_VOX_SIGMA] > 0.0f)) continue;
-        float P = 1.0f - exp(-vx[SL_VOX_SIGMA] * sl_vox_alpha(vx, w[0], w[1], w[2]) * delta);
+        float P;
+        if (ptab) {
+            /* P = 0 (empty voxel, or no chance) can never beat a uniform in [0, 1): no event,
+             * as when the density test below skips the voxel */
+            P = ptab[v];
+            if (!(P > 0.0f)) continue;
+        } else {
+            if (!(vx[SL_VOX_SIGMA] > 0.0f)) continue;
+            P = sl_march_event_p(vx, w, delta);
+        }
         if (!(sl_march_rand(seed, vert, lobe, path, 4u * k) < P)) continue;
         /* The event's fiber: dir + g (n1 e1 + n2 e2), g = dev / sqrt(2), n Gaussian. */
         float d[3] = {vx[SL_VOX_DIRX], vx[SL_VOX_DIRY], vx[SL_VOX_DIRZ]};
@@ -125,14 +140,15 @@ SL_INLINE int sl_march_path(SL_GLOBAL const float *vox, int nx, int ny, int nz, 
 /* All paths of one (vertex, lobe): T_f and sigma_f per channel (see the top of the file). */
 SL_INLINE void sl_march_vertex(SL_GLOBAL const float *vox, int nx, int ny, int nz, const float *lo,
                                float h, SL_GLOBAL const float *tabs, const float *x, const float *w,
-                               sl_uint seed, sl_uint vert, sl_uint lobe, int paths, float *Tf,
-                               float *sf) {
+                               sl_uint seed, sl_uint vert, sl_uint lobe, int paths,
+                               SL_GLOBAL const float *ptab, float *Tf, float *sf) {
     float sT[SL_MARCH_CH], sTs[SL_MARCH_CH], ss[SL_MARCH_CH];
     for (int c = 0; c < SL_MARCH_CH; c++)
         sT[c] = sTs[c] = ss[c] = 0.0f;
     for (int p = 0; p < paths; p++) {
         float T[SL_MARCH_CH], s2[SL_MARCH_CH];
-        sl_march_path(vox, nx, ny, nz, lo, h, tabs, x, w, seed, vert, lobe, (sl_uint)p, T, s2);
+        sl_march_path(vox, nx, ny, nz, lo, h, tabs, x, w, seed, vert, lobe, (sl_uint)p, ptab, T,
+                      s2);
         for (int c = 0; c < SL_MARCH_CH; c++) {
             sT[c] += T[c];
             sTs[c] += T[c] * s2[c];
@@ -145,11 +161,17 @@ SL_INLINE void sl_march_vertex(SL_GLOBAL const float *vox, int nx, int ny, int n
     }
 }
 
+/* ln(max(v, 1e-30)): a texel of the log-space T_f texture (sl_ftex_sample, logspace 1 and 2). */
+SL_INLINE float sl_ftex_log_texel(float v) {
+    return log(sl_maxf(v, 1e-30f));
+}
+
 /* Trilinear lookup in a per-vertex texture (SL_MARCH_CH floats per vertex; vertices m[0] x m[1]
  * x m[2] at lo + k H, x fastest): p is clamped onto the grid. logspace: interpolate ln(max(v,
  * 1e-30)) and return exp of it (for T_f, which falls exponentially with depth: linear weights
  * between vertices 4 voxels apart overestimate it, 0.32 instead of 0.23 against the reference's
- * 0.21 on procedural hair, docs/volume.md). */
+ * 0.21 on procedural hair, docs/volume.md). logspace = 2: tex already holds ln(max(v, 1e-30))
+ * (sl_ftex_log_texel, computed once per march by the C host): the same sums without the logs. */
 SL_INLINE void sl_ftex_sample(SL_GLOBAL const float *tex, int mx, int my, int mz, const float *lo,
                               float H, const float *p, int logspace, float *out) {
     int m[3] = {mx, my, mz}, i0[3];
@@ -173,7 +195,7 @@ SL_INLINE void sl_ftex_sample(SL_GLOBAL const float *tex, int mx, int my, int mz
         if (wt == 0.0f || ix >= mx || iy >= my || iz >= mz) continue;
         SL_GLOBAL const float *t = tex + ((size_t)(iz * my + iy) * mx + ix) * SL_MARCH_CH;
         for (int c = 0; c < SL_MARCH_CH; c++)
-            out[c] += wt * (logspace ? log(sl_maxf(t[c], 1e-30f)) : t[c]);
+            out[c] += wt * (logspace == 1 ? sl_ftex_log_texel(t[c]) : t[c]);
     }
     if (logspace)
         for (int c = 0; c < SL_MARCH_CH; c++)

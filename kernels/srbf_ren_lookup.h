@@ -172,10 +172,22 @@ SL_INLINE int sl_srbf_ren_hcell(SL_GLOBAL const float *T, const sl_srbf_ren_dims
     return sl_srbf_ren_cell(fh, d->n_h, wh);
 }
 
-/* out: R rgb, TT rgb, TRT rgb (R replicated). Angles in the fiber frame, lambda > 0. */
-SL_INLINE void sl_srbf_ren_lookup(SL_GLOBAL const float *T, const sl_srbf_ren_dims *d,
+/* Where one row reads the table: the 8 (lambda, dphi, t) corners shared by the modes (offset o8,
+ * weight w8), the h cell and fraction of each mode in both lambda slices (ih, wh: [2 m + slice])
+ * and int G. Split from the blend so the C batch can compute the next rows' corners and prefetch
+ * them while it blends this one (cpu/srbf_ren_c.c); sl_srbf_ren_lookup runs both in turn. */
+typedef struct sl_srbf_ren_pt {
+    int o8[8];
+    float w8[8];
+    int ih[6];
+    float wh[6];
+    float norm;
+} sl_srbf_ren_pt;
+
+/* Angles in the fiber frame, lambda > 0. */
+SL_INLINE void sl_srbf_ren_coords(SL_GLOBAL const float *T, const sl_srbf_ren_dims *d,
                                   float theta_o, float phi_o, float theta_j, float phi_j,
-                                  float lambda, float out[9]) {
+                                  float lambda, sl_srbf_ren_pt *q) {
     const float half_pi = 0.5f * SL_PI_F;
     float h = sl_clampf(0.5f * (theta_o + theta_j), -half_pi, half_pi);
     float r = sl_srbf_ren_max(half_pi - fabs(h), 1e-30f);
@@ -194,34 +206,42 @@ SL_INLINE void sl_srbf_ren_lookup(SL_GLOBAL const float *T, const sl_srbf_ren_di
         sl_clampf((sl_srbf_ren_log(lam) - d->log_lmin) * d->l_scale, 0.0f, (float)(d->n_l - 1));
     int il = sl_srbf_ren_cell(fl, d->n_l, &wl);
     float l2 = lam * lam;
-    float norm = SL_PI_F * l2 * (1.0f - sl_srbf_ren_exp_neg(-4.0f / l2)); /* int G d omega */
+    q->norm = SL_PI_F * l2 * (1.0f - sl_srbf_ren_exp_neg(-4.0f / l2)); /* int G d omega */
     /* the 8 (lambda, dphi, t) corners, shared by the three modes */
     int st = d->n_h, sp = d->n_h * d->n_t, sl = sp * d->n_p;
     int base = il * sl + ip * sp + it * st;
-    float w8[8];
-    int o8[8];
     for (int c = 0; c < 8; c++) {
         int bl = c >> 2, bp = (c >> 1) & 1, bt = c & 1;
-        w8[c] = (bl ? wl : 1.0f - wl) * (bp ? wp : 1.0f - wp) * (bt ? wt : 1.0f - wt);
-        o8[c] = base + bl * sl + bp * sp + bt * st;
+        q->w8[c] = (bl ? wl : 1.0f - wl) * (bp ? wp : 1.0f - wp) * (bt ? wt : 1.0f - wt);
+        q->o8[c] = base + bl * sl + bp * sp + bt * st;
     }
-    float wh[2];
-    int ih[2];
     float lc = sl_clampf(lam, d->lmin, d->lmax); /* the lambda the normalised value is read at */
     for (int m = 0; m < 3; m++) {
         float w = sqrt(d->beta2[m] + 0.25f * lc * lc), dh = h - d->alpha[m], y = dh / w;
         /* displacement (same y in both slices) while the lobe is 2 widths from |h| = pi/2,
          * plain interpolation (same h) within 1 width of it, linear in between */
         float g = sl_clampf((fabs(h) + 2.0f * w - half_pi) / w, 0.0f, 1.0f);
-        ih[0] = sl_srbf_ren_hcell(T, d, m, il, y, dh, g, &wh[0]);
-        ih[1] = sl_srbf_ren_hcell(T, d, m, il + 1, y, dh, g, &wh[1]);
-        if (m == 0) {
-            float vr = sl_srbf_ren_blend1(T + d->off[0], o8, w8, ih, wh) * norm;
-            out[0] = out[1] = out[2] = vr;
-        } else {
-            sl_srbf_ren_blend3(T + d->off[m], o8, w8, ih, wh, norm, out + 3 * m);
-        }
+        q->ih[2 * m] = sl_srbf_ren_hcell(T, d, m, il, y, dh, g, &q->wh[2 * m]);
+        q->ih[2 * m + 1] = sl_srbf_ren_hcell(T, d, m, il + 1, y, dh, g, &q->wh[2 * m + 1]);
     }
+}
+
+/* out: R rgb, TT rgb, TRT rgb (R replicated) at the corners q. */
+SL_INLINE void sl_srbf_ren_blend(SL_GLOBAL const float *T, const sl_srbf_ren_dims *d,
+                                 const sl_srbf_ren_pt *q, float out[9]) {
+    float vr = sl_srbf_ren_blend1(T + d->off[0], q->o8, q->w8, q->ih, q->wh) * q->norm;
+    out[0] = out[1] = out[2] = vr;
+    sl_srbf_ren_blend3(T + d->off[1], q->o8, q->w8, q->ih + 2, q->wh + 2, q->norm, out + 3);
+    sl_srbf_ren_blend3(T + d->off[2], q->o8, q->w8, q->ih + 4, q->wh + 4, q->norm, out + 6);
+}
+
+/* out: R rgb, TT rgb, TRT rgb (R replicated). Angles in the fiber frame, lambda > 0. */
+SL_INLINE void sl_srbf_ren_lookup(SL_GLOBAL const float *T, const sl_srbf_ren_dims *d,
+                                  float theta_o, float phi_o, float theta_j, float phi_j,
+                                  float lambda, float out[9]) {
+    sl_srbf_ren_pt q;
+    sl_srbf_ren_coords(T, d, theta_o, phi_o, theta_j, phi_j, lambda, &q);
+    sl_srbf_ren_blend(T, d, &q, out);
 }
 
 #endif

@@ -58,7 +58,7 @@ TEST(march_slab_binomial) {
     sl_material_default(&m);
     sl_dual_tables dt;
     CHECK(sl_dual_tables_build(&m, &dt, &e) == 0);
-    sl_march_opts o = {2, 512, 5};
+    sl_march_opts o = {2, 512, 5, 1};
     double dir[3] = {0, 0, 1};
     sl_ftex f;
     CHECK(sl_march_build(NULL, &g, &dt, 1, dir, &o, &f, &e) == 0);
@@ -124,7 +124,7 @@ TEST(march_seeded) {
     sl_dual_tables dt;
     CHECK(sl_dual_tables_build(&m, &dt, &e) == 0);
     double dir[3] = {0.3, 0.2, 0.9327379};
-    sl_march_opts o = {4, 4, 1};
+    sl_march_opts o = {4, 4, 1, 1};
     sl_ftex f1, f2, f3;
     CHECK(sl_march_build(NULL, &g, &dt, 1, dir, &o, &f1, &e) == 0);
     CHECK(sl_march_build(NULL, &g, &dt, 1, dir, &o, &f2, &e) == 0);
@@ -203,7 +203,7 @@ TEST(march_opencl_vs_c) {
     sl_dual_tables dt;
     CHECK(sl_dual_tables_build(&m, &dt, &e) == 0);
     double dirs[6] = {0, 1, 0, 0.6, -0.48, 0.64};
-    sl_march_opts o = {4, 8, 3};
+    sl_march_opts o = {4, 8, 3, 1};
     sl_ftex a, b;
     CHECK(sl_march_build(&dev, &g, &dt, 2, dirs, &o, &a, &e) == 0);
     CHECK(sl_march_build(NULL, &g, &dt, 2, dirs, &o, &b, &e) == 0);

@@ -2,9 +2,11 @@
  * docs/srbf_ren.md): lookups at nodes and between them against the `fast` closed form it is built
  * from, against the exact reference on the stiff sample's rows, the C lookup against its OpenCL
  * twin, the disk cache (hit, miss, corrupt and truncated files), the symmetries the table relies
- * on, and extreme inputs. Tables built here are small or cached in the test's scratch dir. */
+ * on, extreme inputs, and `eval srbf --method table` (host/fiber_eval.c). Tables built here are
+ * small or cached in the test's scratch dir. */
 #include "test.h"
 
+#include "fiber_eval.h"
 #include "report_srbf.h"
 #include "srbf_c.h"
 #include "srbf_ref.h"
@@ -406,4 +408,58 @@ TEST(srbf_ren_errors) {
     p.lambda_min = 0.0;
     CHECK(sl_srbf_ren_get(NULL, &m, &p, &t, &e) == -1);
     CHECK(strstr(e.msg, "lambda range") != NULL);
+}
+
+TEST(srbf_ren_eval_method_table) {
+    /* `eval srbf --method table` (host/fiber_eval.c) returns the lookup of the material's own
+     * table, channel by channel: I_R, I_TT, I_TRT and their sum, equal to slc_srbf_ren_batch on
+     * the same float rows within 1e-6 relative (the eval path converts the rows to float and
+     * the results back to double, and sums I in its own order). The reference backend refuses
+     * the method. SL_CACHE_DIR points at the test's table directory for the call (restored). */
+    sl_material m;
+    sl_srbf_ren t;
+    if (default_table(&t, &m)) return;
+    enum { N = 64 };
+    double in[5 * N], out[4 * N];
+    float fin[5 * N], o9[9 * N];
+    rng_state = 77;
+    for (int i = 0; i < N; i++) {
+        double r[5] = {(rnd() - 0.5) * 3.0, (rnd() - 0.5) * 6.2, (rnd() - 0.5) * 3.0,
+                       (rnd() - 0.5) * 6.2, 0.05 + rnd()};
+        for (int k = 0; k < 5; k++) {
+            in[5 * i + k] = (double)(float)r[k];
+            fin[5 * i + k] = (float)r[k];
+        }
+    }
+    slc_srbf_ren_batch(&t, N, fin, o9);
+    const char *old = getenv("SL_CACHE_DIR");
+    char *saved = old ? strdup(old) : NULL;
+    setenv("SL_CACHE_DIR", ren_dir(), 1);
+    sl_err e = {{0}};
+    for (int ch = 0; ch < 3; ch++) {
+        int rc = sl_eval_run_method(SL_EVAL_SRBF, SL_EVAL_C, SL_EVAL_METHOD_TABLE, 0, NULL, &m, ch,
+                                    N, in, out, &e);
+        CHECK_MSG(rc == 0, "%s", e.msg);
+        int bad = 0;
+        for (int i = 0; i < N && rc == 0; i++) {
+            double want[3] = {o9[9 * i + ch], o9[9 * i + 3 + ch], o9[9 * i + 6 + ch]};
+            double sum = want[0] + want[1] + want[2];
+            for (int k = 0; k < 3; k++)
+                bad += fabs(out[4 * i + k] - want[k]) > 1e-6 * fabs(want[k]) + 1e-30;
+            bad += fabs(out[4 * i + 3] - sum) > 1e-6 * fabs(sum) + 1e-30;
+        }
+        CHECK_MSG(bad == 0, "channel %d: %d values differ", ch, bad);
+    }
+    if (saved) {
+        setenv("SL_CACHE_DIR", saved, 1);
+        free(saved);
+    } else {
+        unsetenv("SL_CACHE_DIR");
+    }
+    CHECK(sl_eval_method_unsupported(SL_EVAL_SRBF, SL_EVAL_REFERENCE, SL_EVAL_METHOD_TABLE) !=
+          NULL);
+    CHECK(sl_eval_method_unsupported(SL_EVAL_SRBF, SL_EVAL_C, SL_EVAL_METHOD_TABLE) == NULL);
+    sl_eval_method mt;
+    CHECK(sl_eval_method_from_name("table", &mt) == 0 && mt == SL_EVAL_METHOD_TABLE);
+    sl_srbf_ren_free(&t);
 }

@@ -80,14 +80,15 @@ sys.exit(0 if ok else 1)' "$cc" "$oc"; then pass "srbf_c_vs_opencl_$meth"
 done
 
 # `report --kernel srbf` (host/report_srbf.c): on the committed exact values of the stiff sample
-# (test/test_srbf_stiff.csv), C only, a 25-row prefix: table, CSV and SVG written atomically.
+# (test/test_srbf_stiff.csv), C only, a 25-row prefix: table, CSV and SVG written atomically;
+# rows: fast, xu m = 1..8, Ren's precomputed table (header + 10).
 R="$D/report"
 mkdir -p "$R"
 expect_output srbf_report_table "| fast | - | c |" \
     "$SL" report --kernel srbf --n 25 --exact test/test_srbf_stiff.csv --device none \
     --min-time 0.02 --csv "$R/r.csv" --svg "$R/r.svg"
 if [ -s "$R/r.csv" ] && head -1 "$R/r.csv" | grep -q '^method,segments,backend,n,median,p95,max,' &&
-    [ "$(wc -l < "$R/r.csv")" -eq 10 ] && grep -q '</svg>' "$R/r.svg"; then
+    [ "$(wc -l < "$R/r.csv")" -eq 11 ] && grep -q '^table,0,c,' "$R/r.csv" && grep -q '</svg>' "$R/r.svg"; then
     pass srbf_report_files
 else fail srbf_report_files "$(head -3 "$R/r.csv" 2>&1)"; fi
 no_leftovers srbf_report_no_tmp "$R"

@@ -1,0 +1,60 @@
+/* shadow_split.c: shadow directions of a broad SRBF lobe (shadow_split.h). */
+#include "shadow_split.h"
+
+#include "shadow.h"
+
+#include <math.h>
+
+int sl_shadow_split(const double dir[3], double lambda, double *dirs, double *w) {
+    double c = 1.0 + lambda * lambda * log(SL_SHADOW_SUPPORT_G) / 2.0;
+    double support = c <= -1.0 ? M_PI : acos(c);
+    if (support <= SL_SHADOW_SUPPORT_MAX_DEG * M_PI / 180.0) {
+        for (int k = 0; k < 3; k++)
+            dirs[k] = dir[k];
+        w[0] = 1.0;
+        return 1;
+    }
+    /* frame (u, v, dir) */
+    double a[3] = {1, 0, 0};
+    if (fabs(dir[0]) > 0.9) a[0] = 0, a[1] = 1;
+    double u[3] = {a[1] * dir[2] - a[2] * dir[1], a[2] * dir[0] - a[0] * dir[2],
+                   a[0] * dir[1] - a[1] * dir[0]};
+    double lu = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (int k = 0; k < 3; k++)
+        u[k] /= lu;
+    double v[3] = {dir[1] * u[2] - dir[2] * u[1], dir[2] * u[0] - dir[0] * u[2],
+                   dir[0] * u[1] - dir[1] * u[0]};
+    const double golden = M_PI * (3.0 - sqrt(5.0));
+    int n = 0;
+    double sum = 0;
+    for (int i = 0; i < SL_SHADOW_SPLIT_N; i++) {
+        double z = 1.0 - 2.0 * i / (SL_SHADOW_SPLIT_N - 1.0); /* both poles on the axis */
+        /* G relative to the axis: exp(2 (z - 1) / lambda^2) */
+        double g = exp(2.0 * (z - 1.0) / (lambda * lambda));
+        if (g < SL_SHADOW_SPLIT_CUT) continue;
+        /* equal-area bands in z (Archimedes); the two poles hold half a band each */
+        double area = (i == 0 || i == SL_SHADOW_SPLIT_N - 1) ? 0.5 : 1.0;
+        double r = sqrt(fmax(0.0, 1.0 - z * z)), ph = golden * i;
+        for (int k = 0; k < 3; k++)
+            dirs[3 * n + k] = z * dir[k] + r * (cos(ph) * u[k] + sin(ph) * v[k]);
+        w[n] = g * area;
+        sum += w[n];
+        n++;
+    }
+    for (int s = 0; s < n; s++)
+        w[s] /= sum;
+    return n;
+}
+
+int sl_shadow_split_max(const double dir[3], double lambda, int max, double *dirs, double *w) {
+    int n = sl_shadow_split(dir, lambda, dirs, w);
+    if (max < 1) max = 1;
+    if (n <= max) return n;
+    /* the points come in order of decreasing z, i.e. decreasing weight: keep the first max */
+    double sum = 0;
+    for (int s = 0; s < max; s++)
+        sum += w[s];
+    for (int s = 0; s < max; s++)
+        w[s] /= sum;
+    return max;
+}
