@@ -38,7 +38,9 @@ static const char *usage_text =
     "                      TT.R/G/B, TRT.R/G/B, MS.R/G/B, shadow.Y, lobes.Y; depth is Z and\n"
     "                      alpha is A, always written with R, G, B.\n"
     "  --shading-rate R    auto|fragment|vertex|vertex:K (default quality.shading_rate)\n"
-    "  --method M          SRBF response: fast (default) or xu\n"
+    "  --method M          SRBF response: auto (default: Ren's precomputed table when it is\n"
+    "                      cached or pays for its build over the frames, else fast), fast, xu\n"
+    "                      or table (docs/frame.md, \"SRBF method\")\n"
     "  --orbit N           N frames on a circle around the hair (about +Y), light passes\n"
     "                      reused; files get _NNNN before the extension\n"
     "  --frames A:B        with --orbit: only frames A..B-1 (same pixels as a full run)\n"
@@ -195,12 +197,9 @@ int cmd_render(int argc, char **argv) {
             aov_given = 1;
         } else if (cli_opt(argc, argv, &i, "--method", &v, &missing)) {
             if (missing) return 2;
-            if (strcmp(v, "fast") == 0)
-                ro.srbf_method = SL_SRBF_METHOD_FAST;
-            else if (strcmp(v, "xu") == 0)
-                ro.srbf_method = SL_SRBF_METHOD_XU;
-            else
-                return cli_usage_error("render", "--method: expected fast or xu, got \"%s\"", v);
+            sl_err me;
+            if (sl_render_method_parse(v, &ro.srbf_method, &me))
+                return cli_usage_error("render", "--method: %s", me.msg);
         } else if (cli_opt(argc, argv, &i, "--width", &v, &missing)) {
             if (missing || cli_int("render", "--width", v, 1, 16384, &width)) return 2;
         } else if (cli_opt(argc, argv, &i, "--height", &v, &missing)) {
@@ -235,6 +234,9 @@ int cmd_render(int argc, char **argv) {
             return cli_usage_error("render", "--frames %s: need 0 <= A < B <= %ld", frames, orbit);
     }
     ro.threads = (int)threads;
+    /* the whole sequence (not this process's share of it): every process of a farm split
+     * weighs the table build against the same frame count (docs/frame.md, "SRBF method") */
+    ro.frames = orbit > 0 ? (int)orbit : 1;
 
     sl_err e = {{0}};
     sl_scene *s = sl_malloc(sizeof *s);

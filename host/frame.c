@@ -519,6 +519,13 @@ static int plan_srbf(sl_renderer *r, const sl_material *mat, double rows, double
     const char *paint_note = rows_painted > 0 ? "; rows of painted strands (per-strand sigma_a "
                                                 "other than the material's) use fast"
                                               : "";
+    if (mat->model != SL_MODEL_MARSCHNER && m == SL_RENDER_SRBF_AUTO) {
+        r->srbf_used = SL_SRBF_METHOD_FAST;
+        snprintf(r->srbf_why, sizeof r->srbf_why,
+                 "auto: fast (model deon: the d'Eon fast path; no table for it)");
+        sl_frame_pass(r, "srbf", SL_PASS_SKIPPED, 0, "no table: %s", r->srbf_why);
+        return 0;
+    }
     if (m == SL_SRBF_METHOD_XU || m == SL_SRBF_METHOD_FAST) {
         r->srbf_used = m;
         snprintf(r->srbf_why, sizeof r->srbf_why, "%s chosen (render --method %s)",
@@ -597,9 +604,14 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     r->npass = 0;
     memset(out, 0, sizeof *out);
     const sl_material *mat = &s->material;
-    if (mat->model != SL_MODEL_MARSCHNER)
-        return sl_fail(e, "render: material model deon: the SRBF response (xu/fast) exists for "
-                          "the Marschner model only (docs/srbf.md)");
+    /* model deon: the d'Eon fast path (kernels/srbf_deon.h) shades; Xu's form and Ren's table
+     * exist for the Marschner model only, and so do the dual-scattering terms (docs/dual.md) */
+    if (mat->model != SL_MODEL_MARSCHNER && r->o.srbf_method == SL_SRBF_METHOD_XU)
+        return sl_fail(e, "render: material model deon: --method xu exists for the Marschner "
+                          "model only (deon shades with --method fast; docs/srbf.md)");
+    if (mat->model != SL_MODEL_MARSCHNER && r->o.srbf_method == SL_RENDER_SRBF_TABLE)
+        return sl_fail(e, "render: material model deon: the SRBF table exists for the Marschner "
+                          "model only (deon shades with --method fast; docs/srbf_ren.md)");
     if (lobes->count < 1) return sl_fail(e, "render: the environment has no lobes");
     if (r->strand_sigma_a && r->strand_sigma_a_n != h->num_strands)
         return sl_fail(e,
@@ -671,6 +683,11 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     if (s->multiple_scattering == SL_MS_OFF) {
         r->ms_on = 0;
         sl_frame_pass(r, "ms", SL_PASS_SKIPPED, 0, "quality.multiple_scattering is off");
+    } else if (mat->model != SL_MODEL_MARSCHNER) {
+        r->ms_on = 0;
+        sl_frame_pass(r, "ms", SL_PASS_SKIPPED, 0,
+                      "model deon: the dual-scattering terms exist for the Marschner model only "
+                      "(docs/dual.md); single scattering only");
     } else {
         ms_share = sl_dual_ms_share(mat);
         r->ms_on = s->multiple_scattering == SL_MS_ON || ms_share >= s->ms_auto_threshold;

@@ -14,6 +14,8 @@
  * response, multiple scattering, accumulation). OpenCL: blocks in turn, one launch per block. */
 #include "frame_internal.h"
 #include "srbf_c.h"
+#include "srbf_deon_c.h"
+#include "srbf_deon_cl.h"
 #include "srbf_cl.h"
 #include "srbf_ren.h"
 
@@ -172,17 +174,27 @@ static void build_rows(const shade_common *sc, size_t i0, size_t i1, rowbuf *b) 
     }
 }
 
+/* The closed-form RGB response of n rows on the C twins: Marschner (fast or xu) or, for model
+ * deon, the d'Eon fast path (9 floats per row: order 0, order 1, orders >= 2 + rest, as R, TT,
+ * TRT). */
+static void closed_form_c(const shade_common *sc, size_t n, const float *in, const float *sig,
+                          float *res) {
+    const sl_renderer *r = sc->r;
+    if (sc->fp.model == SL_MODEL_DEON)
+        slc_srbf_deon_rgb_batch(&sc->fp, r->tables.C, r->tables.H, r->tables.D, n, in, sig, res);
+    else
+        slc_srbf_rgb_batch(&sc->fp, r->tables.C, r->tables.H, sc->method, r->o.segments, n, in,
+                           sig, res);
+}
+
 /* The SRBF response of b's rows on the C twins, in this thread. */
 static void eval_rows_c(const shade_common *sc, rowbuf *b) {
     const sl_renderer *r = sc->r;
     if (!sc->table) {
-        slc_srbf_rgb_batch(&sc->fp, r->tables.C, r->tables.H, sc->method, r->o.segments, b->nr,
-                           b->in, b->sig, b->res);
+        closed_form_c(sc, b->nr, b->in, b->sig, b->res);
         return;
     }
-    if (b->nf)
-        slc_srbf_rgb_batch(&sc->fp, r->tables.C, r->tables.H, sc->method, r->o.segments, b->nf,
-                           b->fin, b->fsig, b->fres);
+    if (b->nf) closed_form_c(sc, b->nf, b->fin, b->fsig, b->fres);
     if (b->nt) slc_srbf_ren_batch(&r->ren, b->nt, b->tin, b->tres);
 }
 
@@ -224,7 +236,9 @@ static int eval_rows_cl(const shade_common *sc, rowbuf *b, sl_err *e) {
     float *cres = sc->table ? b->fres : b->res;
     size_t nc = sc->table ? b->nf : b->nr;
     int k = 0;
-    if (nc)
+    if (nc && sc->fp.model == SL_MODEL_DEON)
+        k = slcl_srbf_deon_rgb_batch(r->dev->cl, &sc->fp, &r->tables, nc, cin, csig, cres, e);
+    else if (nc)
         k = slcl_srbf_rgb_batch(r->dev->cl, &sc->fp, &r->tables, sc->method, r->o.segments, nc, cin,
                                 csig, cres, e);
     if (!k && sc->table && b->nt) k = ren_cl(r, b->nt, b->tin, b->tres, e);

@@ -128,6 +128,7 @@ int sl_viewer_render(sl_viewer *v, sl_err *e) {
     sl_viewer_camera(v, s->width, s->height, &cam);
     sl_fbuf fb;
     double t0 = sl_now();
+    sl_renderer_set_editing(r, preview); /* while dragging: fast, never a table build */
     int rc = sl_renderer_frame(r, s, &v->hair, lobes, &cam, &fb, e);
     free(s);
     if (rc) return -1;

@@ -78,3 +78,43 @@ if [ $? -eq 2 ]; then pass render_frames_needs_orbit; else fail render_frames_ne
 if [ $? -eq 2 ]; then pass render_frames_range; else fail render_frames_range "exit not 2"; fi
 "$SL" render "$D/plain.json" --shading-rate vertex:0 >/dev/null 2>&1
 if [ $? -eq 2 ]; then pass render_bad_rate; else fail render_bad_rate "exit not 2"; fi
+
+# SRBF method (docs/frame.md, "SRBF method"), own table cache: auto keeps fast for one frame
+# (a build would not pay off), --method table builds and caches the table, the next auto run
+# loads it; an unknown method is a usage error
+M="$D/method"
+mkdir -p "$M"
+out=$(SL_CACHE_DIR="$M/cache" "$SL" render "$D/plain.json" --device c --explain --exr "$M/a.exr" 2>/dev/null)
+if printf '%s\n' "$out" | grep -q '^srbf  *skipped.*would not pay off'; then pass render_method_auto_fast
+else fail render_method_auto_fast "$(printf '%s' "$out" | grep '^srbf')"; fi
+out=$(SL_CACHE_DIR="$M/cache" "$SL" render "$D/plain.json" --device c --explain --method table --exr "$M/t.exr" 2>/dev/null)
+if printf '%s\n' "$out" | grep -q '^srbf  *run.*built' && printf '%s\n' "$out" | grep -q 'SRBF table on C'; then
+    pass render_method_table_builds
+else fail render_method_table_builds "$(printf '%s' "$out" | grep -E '^(srbf|shade)')"; fi
+out=$(SL_CACHE_DIR="$M/cache" "$SL" render "$D/plain.json" --device c --explain --exr "$M/a2.exr" 2>/dev/null)
+if printf '%s\n' "$out" | grep -q '^srbf  *run.*disk cache'; then pass render_method_auto_loads_cached
+else fail render_method_auto_loads_cached "$(printf '%s' "$out" | grep '^srbf')"; fi
+err=$("$SL" render "$D/plain.json" --device c --method exact 2>&1 >/dev/null); rc=$?
+if [ "$rc" -eq 2 ] && printf '%s' "$err" | grep -q 'expected auto, fast, xu or table'; then
+    pass render_method_unknown
+else fail render_method_unknown "exit $rc: $err"; fi
+
+# model deon renders with the d'Eon fast SRBF path (single scattering; no dual-scattering terms
+# for deon, docs/dual.md) on C and OpenCL; xu and the table are Marschner-only usage errors.
+cat > "$D/deon.json" <<JSON
+{"hair": {"procedural": {"style": "wavy", "strands": 200, "points": 10, "seed": 3}},
+ "material": {"model": "deon", "sigma_a": [0.2, 0.35, 0.7]},
+ "environment": {"lobes": "lobes.json"}, "image": {"width": 48, "height": 36}}
+JSON
+if [ -f "$D/lobes.json" ]; then
+    expect_output render_deon_plan "model deon" sh -c "'$SL' render '$D/deon.json' --device c --exr '$D/deon_c.exr' --explain 2>&1"
+    expect_error render_deon_xu "--method xu exists for the Marschner model only" \
+        "$SL" render "$D/deon.json" --device c --method xu --exr "$D/deon_xu.exr"
+    if "$SL" devices 2>/dev/null | grep -q 'PoCL\|GPU'; then
+        expect_ok render_deon_opencl "$SL" render "$D/deon.json" --device pocl --exr "$D/deon_cl.exr"
+    else
+        skip render_deon_opencl "no OpenCL device"
+    fi
+else
+    skip render_deon_plan "no lobes.json in this test's folder"
+fi
