@@ -20,6 +20,41 @@ void slcl_srbf_options(const sl_fiber_params *fp, int method, int segments, char
         snprintf(buf, size, "-DSL_SRBF_SPEC_METHOD=0 -DSL_SRBF_SPEC_SEGMENTS=%d", segments);
 }
 
+/* The read-only copies of the C and H tables both kernels take, created only while *err is
+ * CL_SUCCESS (the caller's chain of clCreateBuffer calls). */
+static void srbf_table_buffers(cl_context ctx, const sl_srbf_tables *t, cl_mem *c, cl_mem *h,
+                               cl_int *err) {
+    if (*err == CL_SUCCESS)
+        *c = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                            SL_SRBF_C_FLOATS * sizeof(float), t->C, err);
+    if (*err == CL_SUCCESS)
+        *h = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                            SL_SRBF_H_FLOATS * sizeof(float), t->H, err);
+}
+
+/* Unless rc is already an error: launch k over n rows (work groups of 64, or the device's
+ * maximum) and read out_floats floats of buffer `res` back into out; then release the nbuf
+ * buffers whatever happened. Returns the first error. */
+static int srbf_run(sl_cl *cl, cl_kernel k, const char *name, size_t n, cl_mem res,
+                    size_t out_floats, float *out, cl_mem *buf, int nbuf, int rc, sl_err *e) {
+    cl_command_queue q = sl_cl_queue(cl);
+    if (!rc) {
+        size_t local = 64, global;
+        size_t maxwg = sl_cl_max_work_group_size(cl);
+        if (maxwg && local > maxwg) local = maxwg;
+        global = (n + local - 1) / local * local;
+        rc = sl_cl_check(clEnqueueNDRangeKernel(q, k, 1, NULL, &global, &local, 0, NULL, NULL),
+                         name, e);
+    }
+    if (!rc)
+        rc = sl_cl_check(
+            clEnqueueReadBuffer(q, res, CL_TRUE, 0, out_floats * sizeof(float), out, 0, NULL, NULL),
+            "clEnqueueReadBuffer", e);
+    for (int a = 0; a < nbuf; a++)
+        if (buf[a]) clReleaseMemObject(buf[a]);
+    return rc;
+}
+
 int slcl_srbf_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *t, int method,
                     int segments, size_t n, const float *in, float *out, sl_err *e) {
     if (n == 0) return 0;
@@ -30,19 +65,13 @@ int slcl_srbf_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *
     int rc = sl_cl_get_kernel(cl, "srbf_eval.cl", "sl_srbf_eval", opts, &k, e);
     if (rc) return rc;
     cl_context ctx = sl_cl_context(cl);
-    cl_command_queue q = sl_cl_queue(cl);
     cl_int err;
     cl_mem buf[4] = {NULL, NULL, NULL, NULL};
     buf[0] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * 5 * sizeof(float),
                             (void *)in, &err);
     if (err == CL_SUCCESS)
         buf[1] = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, n * 4 * sizeof(float), NULL, &err);
-    if (err == CL_SUCCESS)
-        buf[2] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                SL_SRBF_C_FLOATS * sizeof(float), t->C, &err);
-    if (err == CL_SUCCESS)
-        buf[3] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                SL_SRBF_H_FLOATS * sizeof(float), t->H, &err);
+    srbf_table_buffers(ctx, t, &buf[2], &buf[3], &err);
     rc = sl_cl_check(err, "clCreateBuffer", e);
     cl_uint nn = (cl_uint)n;
     cl_int meth = method, seg = segments;
@@ -55,21 +84,7 @@ int slcl_srbf_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *
         if (err == CL_SUCCESS) err = clSetKernelArg(k, 7, sizeof seg, &seg);
         rc = sl_cl_check(err, "clSetKernelArg", e);
     }
-    if (!rc) {
-        size_t local = 64, global;
-        size_t maxwg = sl_cl_max_work_group_size(cl);
-        if (maxwg && local > maxwg) local = maxwg;
-        global = (n + local - 1) / local * local;
-        rc = sl_cl_check(clEnqueueNDRangeKernel(q, k, 1, NULL, &global, &local, 0, NULL, NULL),
-                         "sl_srbf_eval", e);
-    }
-    if (!rc)
-        rc = sl_cl_check(
-            clEnqueueReadBuffer(q, buf[1], CL_TRUE, 0, n * 4 * sizeof(float), out, 0, NULL, NULL),
-            "clEnqueueReadBuffer", e);
-    for (int a = 0; a < 4; a++)
-        if (buf[a]) clReleaseMemObject(buf[a]);
-    return rc;
+    return srbf_run(cl, k, "sl_srbf_eval", n, buf[1], n * 4, out, buf, 4, rc, e);
 }
 
 int slcl_srbf_rgb_batch_ex(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *t,
@@ -83,7 +98,6 @@ int slcl_srbf_rgb_batch_ex(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_t
     int rc = sl_cl_get_kernel(cl, "srbf_eval.cl", "sl_srbf_eval_rgb", opts, &k, e);
     if (rc) return rc;
     cl_context ctx = sl_cl_context(cl);
-    cl_command_queue q = sl_cl_queue(cl);
     cl_int err;
     /* in, sigma (a 3-float dummy when NULL: a kernel argument may not be a NULL buffer on every
      * platform), out, C, H */
@@ -97,12 +111,7 @@ int slcl_srbf_rgb_batch_ex(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_t
                                 sigma_a ? (void *)sigma_a : (void *)dummy, &err);
     if (err == CL_SUCCESS)
         buf[2] = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, n * 9 * sizeof(float), NULL, &err);
-    if (err == CL_SUCCESS)
-        buf[3] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                SL_SRBF_C_FLOATS * sizeof(float), t->C, &err);
-    if (err == CL_SUCCESS)
-        buf[4] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                SL_SRBF_H_FLOATS * sizeof(float), t->H, &err);
+    srbf_table_buffers(ctx, t, &buf[3], &buf[4], &err);
     rc = sl_cl_check(err, "clCreateBuffer", e);
     cl_uint nn = (cl_uint)n;
     cl_int has = sigma_a != NULL, meth = method, seg = segments;
@@ -118,21 +127,7 @@ int slcl_srbf_rgb_batch_ex(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_t
         if (err == CL_SUCCESS) err = clSetKernelArg(k, 9, sizeof seg, &seg);
         rc = sl_cl_check(err, "clSetKernelArg", e);
     }
-    if (!rc) {
-        size_t local = 64, global;
-        size_t maxwg = sl_cl_max_work_group_size(cl);
-        if (maxwg && local > maxwg) local = maxwg;
-        global = (n + local - 1) / local * local;
-        rc = sl_cl_check(clEnqueueNDRangeKernel(q, k, 1, NULL, &global, &local, 0, NULL, NULL),
-                         "sl_srbf_eval_rgb", e);
-    }
-    if (!rc)
-        rc = sl_cl_check(
-            clEnqueueReadBuffer(q, buf[2], CL_TRUE, 0, n * 9 * sizeof(float), out, 0, NULL, NULL),
-            "clEnqueueReadBuffer", e);
-    for (int a = 0; a < 5; a++)
-        if (buf[a]) clReleaseMemObject(buf[a]);
-    return rc;
+    return srbf_run(cl, k, "sl_srbf_eval_rgb", n, buf[2], n * 9, out, buf, 5, rc, e);
 }
 
 int slcl_srbf_rgb_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *t, int method,

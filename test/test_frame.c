@@ -5,7 +5,7 @@
  * modes sum to the beauty), never from the code under test. */
 #include "test.h"
 
-#include "frame.h"
+#include "frame_fixture.h"
 #include "kbuffer.h"
 #include "view.h"
 #include "view_cl.h"
@@ -110,65 +110,25 @@ TEST(frame_view_coverage_area) {
 
 /* ---- whole frames on a tiny scene ---- */
 
-typedef struct tiny {
-    sl_scene s;
-    sl_hair h;
-    sl_lobes l;
-    sl_camera cam;
-} tiny;
-
-static int tiny_setup(tiny *t, int strands) {
-    memset(t, 0, sizeof *t);
-    sl_scene_default(&t->s);
-    t->s.width = 64;
-    t->s.height = 48;
+/* The shared tiny scene (frame_fixture.h) with a coloured absorption. */
+static int tiny_setup(frame_tiny *t, int strands) {
+    if (frame_tiny_setup(t, strands)) return -1;
     t->s.material.sigma_a[0] = 0.2, t->s.material.sigma_a[1] = 0.4, t->s.material.sigma_a[2] = 0.8;
     t->s.material.sigma_a_rgb = 1;
-    sl_hair_procedural p = {SL_PROC_WAVY, (uint32_t)strands, 10, 3};
-    sl_err e;
-    if (sl_hair_generate(&p, &t->h, &e)) return -1;
-    static const double dirs[4][3] = {{0, 1, 0}, {0.6, 0.0, 0.8}, {-0.8, 0.0, 0.6}, {0, -1, 0}};
-    static const double lam[4] = {0.5, 0.3, 0.8, 1.0};
-    t->l.count = 4;
-    t->l.lobe = calloc(4, sizeof *t->l.lobe);
-    for (int j = 0; j < 4; j++) {
-        memcpy(t->l.lobe[j].dir, dirs[j], sizeof dirs[j]);
-        t->l.lobe[j].lambda = lam[j];
-        for (int c = 0; c < 3; c++)
-            t->l.lobe[j].rgb[c] = 1.0 + 0.5 * j + 0.1 * c;
-    }
-    float lo[3], hi[3];
-    sl_hair_bounds(&t->h, lo, hi);
-    double target[3];
-    for (int k = 0; k < 3; k++)
-        target[k] = 0.5 * (lo[k] + hi[k]);
-    sl_camera_setup(&t->cam, NULL, target, t->s.up, t->s.fov_deg, 64, 48, lo, hi);
     return 0;
 }
 
-static void tiny_free(tiny *t) {
-    sl_hair_free(&t->h);
-    sl_lobes_free(&t->l);
-}
-
-static int render(sl_renderer *r, tiny *t, sl_fbuf *fb) {
+/* tiny_setup and the C device, checked. */
+static void tiny_open(frame_tiny *t, int strands, sl_device *dev) {
     sl_err e;
-    int rc = sl_renderer_frame(r, &t->s, &t->h, &t->l, &t->cam, fb, &e);
-    if (rc) fprintf(stderr, "render: %s\n", e.msg);
-    return rc;
-}
-
-static int pass_state(const sl_renderer *r, const char *name) {
-    const sl_pass_rec *p = sl_renderer_pass(r, name);
-    return p ? p->state : -1;
+    CHECK(tiny_setup(t, strands) == 0);
+    CHECK(sl_device_open("c", dev, &e) == 0);
 }
 
 TEST(frame_planner_camera_move_reuses_light) {
-    tiny t;
-    CHECK(tiny_setup(&t, 200) == 0);
+    frame_tiny t;
     sl_device dev = {0};
-    sl_err e;
-    CHECK(sl_device_open("c", &dev, &e) == 0);
+    tiny_open(&t, 200, &dev);
     sl_renderer r;
     sl_render_opts o;
     sl_render_opts_default(&o);
@@ -176,21 +136,21 @@ TEST(frame_planner_camera_move_reuses_light) {
     sl_renderer_init(&r, &dev, &o);
     sl_fbuf a, b, c;
     t.s.multiple_scattering = SL_MS_ON;
-    CHECK(render(&r, &t, &a) == 0);
-    CHECK(pass_state(&r, "light") == SL_PASS_RUN);
-    CHECK(pass_state(&r, "volume") == SL_PASS_RUN);
-    CHECK(pass_state(&r, "view") == SL_PASS_RUN);
+    CHECK(frame_tiny_render(&r, &t, &a) == 0);
+    CHECK(frame_pass_state(&r, "light") == SL_PASS_RUN);
+    CHECK(frame_pass_state(&r, "volume") == SL_PASS_RUN);
+    CHECK(frame_pass_state(&r, "view") == SL_PASS_RUN);
     /* camera move: no light pass, no volume pass, the view pass re-runs */
     t.cam.eye[0] += 3.0;
-    CHECK(render(&r, &t, &b) == 0);
-    CHECK(pass_state(&r, "light") == SL_PASS_CACHED);
-    CHECK(pass_state(&r, "volume") == SL_PASS_CACHED);
-    CHECK(pass_state(&r, "view") == SL_PASS_RUN);
+    CHECK(frame_tiny_render(&r, &t, &b) == 0);
+    CHECK(frame_pass_state(&r, "light") == SL_PASS_CACHED);
+    CHECK(frame_pass_state(&r, "volume") == SL_PASS_CACHED);
+    CHECK(frame_pass_state(&r, "view") == SL_PASS_RUN);
     /* material edit: neither light nor view re-runs, the image changes */
     t.s.material.sigma_a[0] = 2.0;
-    CHECK(render(&r, &t, &c) == 0);
-    CHECK(pass_state(&r, "light") == SL_PASS_CACHED);
-    CHECK(pass_state(&r, "view") == SL_PASS_CACHED);
+    CHECK(frame_tiny_render(&r, &t, &c) == 0);
+    CHECK(frame_pass_state(&r, "light") == SL_PASS_CACHED);
+    CHECK(frame_pass_state(&r, "view") == SL_PASS_CACHED);
     double d = 0;
     for (int i = 0; i < 64 * 48 * 4; i++)
         d += fabs(c.rgba[i] - b.rgba[i]);
@@ -199,27 +159,24 @@ TEST(frame_planner_camera_move_reuses_light) {
     sl_fbuf_free(&b);
     sl_fbuf_free(&c);
     sl_renderer_free(&r);
-    sl_device_close(&dev);
-    tiny_free(&t);
+    frame_tiny_close(&t, &dev);
 }
 
 TEST(frame_planner_dark_hair_skips_ms) {
     /* docs/dual.md: black hair (sigma_a ~ 8) has an MS share ~0.004 < 0.02 -> skipped under
      * auto; white hair (sigma_a = 0) 0.65 -> run. */
-    tiny t;
-    CHECK(tiny_setup(&t, 100) == 0);
+    frame_tiny t;
     sl_device dev = {0};
-    sl_err e;
-    CHECK(sl_device_open("c", &dev, &e) == 0);
+    tiny_open(&t, 100, &dev);
     sl_renderer r;
     sl_renderer_init(&r, &dev, NULL);
     sl_fbuf a;
     t.s.multiple_scattering = SL_MS_AUTO;
     for (int c = 0; c < 3; c++)
         t.s.material.sigma_a[c] = 8.0;
-    CHECK(render(&r, &t, &a) == 0);
-    CHECK(pass_state(&r, "ms") == SL_PASS_SKIPPED);
-    CHECK(pass_state(&r, "volume") == SL_PASS_SKIPPED);
+    CHECK(frame_tiny_render(&r, &t, &a) == 0);
+    CHECK(frame_pass_state(&r, "ms") == SL_PASS_SKIPPED);
+    CHECK(frame_pass_state(&r, "volume") == SL_PASS_SKIPPED);
     double ms = 0;
     for (int i = 0; i < 64 * 48 * 3; i++)
         ms += a.mode[3][i];
@@ -227,61 +184,51 @@ TEST(frame_planner_dark_hair_skips_ms) {
     sl_fbuf_free(&a);
     for (int c = 0; c < 3; c++)
         t.s.material.sigma_a[c] = 0.0;
-    CHECK(render(&r, &t, &a) == 0);
-    CHECK(pass_state(&r, "ms") == SL_PASS_RUN);
-    CHECK(pass_state(&r, "volume") == SL_PASS_RUN);
+    CHECK(frame_tiny_render(&r, &t, &a) == 0);
+    CHECK(frame_pass_state(&r, "ms") == SL_PASS_RUN);
+    CHECK(frame_pass_state(&r, "volume") == SL_PASS_RUN);
     ms = 0;
     for (int i = 0; i < 64 * 48 * 3; i++)
         ms += a.mode[3][i];
     CHECK(ms > 0);
     sl_fbuf_free(&a);
     sl_renderer_free(&r);
-    sl_device_close(&dev);
-    tiny_free(&t);
+    frame_tiny_close(&t, &dev);
 }
 
 TEST(frame_negligible_lobe_skipped) {
     /* a fifth lobe with 1e-9 of the power is left out (planner "lobes" skipped) and the frame
      * matches the 4-lobe frame to 1e-6 relative (only the power normalisation differs by 1e-9) */
-    tiny t;
-    CHECK(tiny_setup(&t, 100) == 0);
+    frame_tiny t;
     sl_device dev = {0};
-    sl_err e;
-    CHECK(sl_device_open("c", &dev, &e) == 0);
+    tiny_open(&t, 100, &dev);
     sl_renderer r;
     sl_renderer_init(&r, &dev, NULL);
     sl_fbuf a, b;
-    CHECK(render(&r, &t, &a) == 0);
-    CHECK(pass_state(&r, "lobes") == SL_PASS_RUN);
+    CHECK(frame_tiny_render(&r, &t, &a) == 0);
+    CHECK(frame_pass_state(&r, "lobes") == SL_PASS_RUN);
     t.l.lobe = realloc(t.l.lobe, 5 * sizeof *t.l.lobe);
     t.l.lobe[4] = (sl_lobe){{1, 0, 0}, 0.5, {1e-9, 1e-9, 1e-9}};
     t.l.count = 5;
-    CHECK(render(&r, &t, &b) == 0);
-    CHECK(pass_state(&r, "lobes") == SL_PASS_SKIPPED);
+    CHECK(frame_tiny_render(&r, &t, &b) == 0);
+    CHECK(frame_pass_state(&r, "lobes") == SL_PASS_SKIPPED);
     CHECK(r.lobes_used == 4);
-    double md = 0, mx = 0;
-    for (int i = 0; i < 64 * 48 * 4; i++) {
-        md = fmax(md, fabs(a.rgba[i] - b.rgba[i]));
-        mx = fmax(mx, fabs(a.rgba[i]));
-    }
+    double mx, md = frame_max_diff(&a, &b, &mx);
     CHECK(md <= 1e-6 * mx);
     sl_fbuf_free(&a);
     sl_fbuf_free(&b);
     sl_renderer_free(&r);
-    sl_device_close(&dev);
-    tiny_free(&t);
+    frame_tiny_close(&t, &dev);
 }
 
 TEST(frame_aovs_consistent_and_deterministic) {
     /* modes R + TT + TRT + MS = beauty (each is the same front-to-back composite; 1e-5 relative
      * to the pixel for float rounding of 4 casts); 0 <= alpha, shadow <= 1; lobe count <= 4;
      * one thread and two threads give bit-identical frames (fixed insertion order). */
-    tiny t;
-    CHECK(tiny_setup(&t, 200) == 0);
-    t.s.multiple_scattering = SL_MS_ON;
+    frame_tiny t;
     sl_device dev = {0};
-    sl_err e;
-    CHECK(sl_device_open("c", &dev, &e) == 0);
+    tiny_open(&t, 200, &dev);
+    t.s.multiple_scattering = SL_MS_ON;
     sl_render_opts o;
     sl_render_opts_default(&o);
     o.threads = 1;
@@ -290,8 +237,8 @@ TEST(frame_aovs_consistent_and_deterministic) {
     o.threads = 2;
     sl_renderer_init(&r2, &dev, &o);
     sl_fbuf a, b;
-    CHECK(render(&r1, &t, &a) == 0);
-    CHECK(render(&r2, &t, &b) == 0);
+    CHECK(frame_tiny_render(&r1, &t, &a) == 0);
+    CHECK(frame_tiny_render(&r2, &t, &b) == 0);
     size_t n = 64 * 48;
     int covered = 0;
     for (size_t i = 0; i < n; i++) {
@@ -314,8 +261,7 @@ TEST(frame_aovs_consistent_and_deterministic) {
     sl_fbuf_free(&b);
     sl_renderer_free(&r1);
     sl_renderer_free(&r2);
-    sl_device_close(&dev);
-    tiny_free(&t);
+    frame_tiny_close(&t, &dev);
 }
 
 TEST(frame_shading_rates_agree) {
@@ -326,19 +272,17 @@ TEST(frame_shading_rates_agree) {
      * bias (vertex brighter: T looked up at strand vertices vs along the segments, open in
      * docs/performance.md). Bound 0.2: a missing mode (TT or TRT, each > 20 % of this image)
      * or a wrong interpolation weight exceeds it. */
-    tiny t;
-    CHECK(tiny_setup(&t, 200) == 0);
+    frame_tiny t;
     sl_device dev = {0};
-    sl_err e;
-    CHECK(sl_device_open("c", &dev, &e) == 0);
+    tiny_open(&t, 200, &dev);
     sl_renderer r;
     sl_renderer_init(&r, &dev, NULL);
     sl_fbuf a, b;
     snprintf(t.s.shading_rate, sizeof t.s.shading_rate, "fragment");
-    CHECK(render(&r, &t, &a) == 0);
+    CHECK(frame_tiny_render(&r, &t, &a) == 0);
     CHECK(r.rate_k == 0);
     snprintf(t.s.shading_rate, sizeof t.s.shading_rate, "vertex");
-    CHECK(render(&r, &t, &b) == 0);
+    CHECK(frame_tiny_render(&r, &t, &b) == 0);
     CHECK(r.rate_k == 1);
     double d = 0, m = 0;
     for (int i = 0; i < 64 * 48; i++)
@@ -351,14 +295,13 @@ TEST(frame_shading_rates_agree) {
     for (int i = 0; i < 64 * 48; i++)
         for (int c = 0; c < 3; c++)
             mb += b.rgba[4 * i + c];
-    printf("frame_shading_rates: fragment %.5f vertex %.5f mean |diff| %.4f of the mean\n", m,
-           mb, d / m);
+    printf("frame_shading_rates: fragment %.5f vertex %.5f mean |diff| %.4f of the mean\n", m, mb,
+           d / m);
     CHECK_MSG(d < 0.20 * m, "mean rel diff %.4f", d / m);
     sl_fbuf_free(&a);
     sl_fbuf_free(&b);
     sl_renderer_free(&r);
-    sl_device_close(&dev);
-    tiny_free(&t);
+    frame_tiny_close(&t, &dev);
 }
 
 TEST(frame_c_vs_opencl) {
@@ -374,7 +317,7 @@ TEST(frame_c_vs_opencl) {
         SKIP("no OpenCL device");
         return;
     }
-    tiny t;
+    frame_tiny t;
     CHECK(tiny_setup(&t, 150) == 0);
     sl_device c = {0};
     CHECK(sl_device_open("c", &c, &e) == 0);
@@ -382,13 +325,9 @@ TEST(frame_c_vs_opencl) {
     sl_renderer_init(&rc, &c, NULL);
     sl_renderer_init(&ro, &cl, NULL);
     sl_fbuf a, b;
-    CHECK(render(&rc, &t, &a) == 0);
-    CHECK(render(&ro, &t, &b) == 0);
-    double md = 0, mx = 0;
-    for (int i = 0; i < 64 * 48 * 4; i++) {
-        md = fmax(md, fabs(a.rgba[i] - b.rgba[i]));
-        mx = fmax(mx, fabs(a.rgba[i]));
-    }
+    CHECK(frame_tiny_render(&rc, &t, &a) == 0);
+    CHECK(frame_tiny_render(&ro, &t, &b) == 0);
+    double mx, md = frame_max_diff(&a, &b, &mx);
     CHECK(mx > 0);
     CHECK_MSG(md <= 1e-3 * mx, "max diff %g of max %g", md, mx);
     sl_fbuf_free(&a);
@@ -397,7 +336,7 @@ TEST(frame_c_vs_opencl) {
     sl_renderer_free(&ro);
     sl_device_close(&c);
     sl_device_close(&cl);
-    tiny_free(&t);
+    frame_tiny_free(&t);
 }
 
 TEST(frame_kbuffer_opencl_equals_c) {
@@ -448,53 +387,68 @@ static sl_renderer *new_renderer(sl_device *dev, int threads) {
     return r;
 }
 
+static void delete_renderer(sl_renderer *r) {
+    sl_renderer_free(r);
+    free(r);
+}
+
+/* The paint tests' state: the tiny scene with 150 strands, MS on and fragment-rate shading on a
+ * 2-thread C renderer, its first (unpainted) frame a, and n per-strand sigma_a at the
+ * material's values (sa). */
+typedef struct paint_fx {
+    frame_tiny t;
+    sl_device dev;
+    sl_renderer *r;
+    sl_fbuf a;
+    float *sa;
+    uint32_t n;
+} paint_fx;
+
+static void paint_begin(paint_fx *p) {
+    memset(p, 0, sizeof *p);
+    tiny_open(&p->t, 150, &p->dev);
+    p->t.s.multiple_scattering = SL_MS_ON;
+    snprintf(p->t.s.shading_rate, sizeof p->t.s.shading_rate, "fragment");
+    p->r = new_renderer(&p->dev, 2);
+    CHECK(frame_tiny_render(p->r, &p->t, &p->a) == 0);
+    p->n = p->t.h.num_strands;
+    p->sa = frame_strand_sigma_a(&p->t);
+}
+
+static void paint_end(paint_fx *p) {
+    free(p->sa);
+    sl_fbuf_free(&p->a);
+    delete_renderer(p->r);
+    frame_tiny_close(&p->t, &p->dev);
+}
+
 TEST(frame_paint_reruns_only_shading) {
     /* per-strand sigma_a (paint): view, light, dual and volume stay cached; lookup and shade
      * run. Overrides equal to the material's sigma_a give the same frame (1e-5 relative to the
      * brightest pixel: the per-row absorption path may round differently from the per-material
      * one); a wrong strand count is a one-line error. */
-    tiny t;
-    CHECK(tiny_setup(&t, 150) == 0);
-    t.s.multiple_scattering = SL_MS_ON;
-    snprintf(t.s.shading_rate, sizeof t.s.shading_rate, "fragment");
-    sl_device dev = {0};
+    paint_fx p;
     sl_err e;
-    CHECK(sl_device_open("c", &dev, &e) == 0);
-    sl_renderer *r = new_renderer(&dev, 2);
-    sl_fbuf a, b;
-    CHECK(render(r, &t, &a) == 0);
-    uint32_t n = t.h.num_strands;
-    float *sa = malloc(3 * n * sizeof *sa);
-    for (uint32_t s = 0; s < n; s++)
-        for (int q = 0; q < 3; q++)
-            sa[3 * s + q] = (float)t.s.material.sigma_a[q];
-    CHECK(sl_renderer_set_strand_sigma_a(r, sa, n, &e) == 0);
-    CHECK(render(r, &t, &b) == 0);
-    CHECK(pass_state(r, "view") == SL_PASS_CACHED);
-    CHECK(pass_state(r, "light") == SL_PASS_CACHED);
-    CHECK(pass_state(r, "dual") == SL_PASS_CACHED);
-    CHECK(pass_state(r, "volume") == SL_PASS_CACHED);
-    CHECK(pass_state(r, "lookup") == SL_PASS_RUN);
-    CHECK(pass_state(r, "shade") == SL_PASS_RUN);
-    double md = 0, mx = 0;
-    for (int i = 0; i < 64 * 48 * 4; i++) {
-        md = fmax(md, fabs(a.rgba[i] - b.rgba[i]));
-        mx = fmax(mx, fabs(a.rgba[i]));
-    }
+    sl_fbuf b;
+    paint_begin(&p);
+    CHECK(sl_renderer_set_strand_sigma_a(p.r, p.sa, p.n, &e) == 0);
+    CHECK(frame_tiny_render(p.r, &p.t, &b) == 0);
+    CHECK(frame_pass_state(p.r, "view") == SL_PASS_CACHED);
+    CHECK(frame_pass_state(p.r, "light") == SL_PASS_CACHED);
+    CHECK(frame_pass_state(p.r, "dual") == SL_PASS_CACHED);
+    CHECK(frame_pass_state(p.r, "volume") == SL_PASS_CACHED);
+    CHECK(frame_pass_state(p.r, "lookup") == SL_PASS_RUN);
+    CHECK(frame_pass_state(p.r, "shade") == SL_PASS_RUN);
+    double mx, md = frame_max_diff(&p.a, &b, &mx);
     CHECK(mx > 0);
     CHECK_MSG(md <= 1e-5 * mx, "max diff %g of %g", md, mx);
     sl_fbuf_free(&b);
     /* overrides for another hair */
-    CHECK(sl_renderer_set_strand_sigma_a(r, sa, n - 1, &e) == 0);
-    CHECK(sl_renderer_frame(r, &t.s, &t.h, &t.l, &t.cam, &b, &e) == -1);
+    CHECK(sl_renderer_set_strand_sigma_a(p.r, p.sa, p.n - 1, &e) == 0);
+    CHECK(sl_renderer_frame(p.r, &p.t.s, &p.t.h, &p.t.l, &p.t.cam, &b, &e) == -1);
     CHECK(strstr(e.msg, "per-strand sigma_a has 149 strands but the hair has 150") != NULL);
     CHECK(b.rgba == NULL);
-    free(sa);
-    sl_fbuf_free(&a);
-    sl_renderer_free(r);
-    free(r);
-    sl_device_close(&dev);
-    tiny_free(&t);
+    paint_end(&p);
 }
 
 TEST(frame_paint_half_differs_only_where_painted) {
@@ -502,109 +456,63 @@ TEST(frame_paint_half_differs_only_where_painted) {
      * all belong to unpainted strands is bit-identical (nothing but their own shading reaches
      * them: MS uses the material's sigma_a, docs/frame.md); no pixel with a painted entry gets
      * brighter and most get darker. SKIP while the shading ignores per-strand sigma_a. */
-    tiny t;
-    CHECK(tiny_setup(&t, 150) == 0);
-    t.s.multiple_scattering = SL_MS_ON;
-    snprintf(t.s.shading_rate, sizeof t.s.shading_rate, "fragment");
-    sl_device dev = {0};
+    paint_fx p;
     sl_err e;
-    CHECK(sl_device_open("c", &dev, &e) == 0);
-    sl_renderer *r = new_renderer(&dev, 2);
-    sl_fbuf a, b;
-    CHECK(render(r, &t, &a) == 0);
-    uint32_t n = t.h.num_strands;
-    float *sa = malloc(3 * n * sizeof *sa);
-    for (uint32_t s = 0; s < n; s++)
+    sl_fbuf b;
+    paint_begin(&p);
+    for (uint32_t s = 1; s < p.n; s += 2)
         for (int q = 0; q < 3; q++)
-            sa[3 * s + q] = s % 2 ? 20.0f : (float)t.s.material.sigma_a[q];
-    CHECK(sl_renderer_set_strand_sigma_a(r, sa, n, &e) == 0);
-    CHECK(render(r, &t, &b) == 0);
-    uint32_t *strand_of = malloc(t.h.num_points * sizeof *strand_of);
-    for (uint32_t s = 0; s < n; s++)
-        for (uint32_t i = t.h.strand_first[s]; i < t.h.strand_first[s + 1]; i++)
-            strand_of[i] = s;
-    int clean = 0, clean_same = 1, painted_px = 0, darker = 0, brighter = 0, changed = 0;
-    for (int px = 0; px < 64 * 48; px++) {
-        int k = r->kcount[px], painted = 0;
-        for (int i = 0; i < k; i++)
-            painted |= strand_of[r->kbuf[px * r->vK + i].seg] % 2;
-        for (int c = 0; c < 3; c++)
-            changed += a.rgba[4 * px + c] != b.rgba[4 * px + c];
-        double sa_ = a.rgba[4 * px] + a.rgba[4 * px + 1] + a.rgba[4 * px + 2];
-        double sb_ = b.rgba[4 * px] + b.rgba[4 * px + 1] + b.rgba[4 * px + 2];
-        if (!painted) {
-            clean++;
-            clean_same &= memcmp(a.rgba + 4 * px, b.rgba + 4 * px, 4 * sizeof(float)) == 0;
-        } else if (a.rgba[4 * px + 3] > 0.05f) {
-            /* more absorption never brightens (R does not depend on sigma_a, TT and TRT fall);
-             * 1e-6 relative: float rounding of the composite */
-            painted_px++;
-            darker += sb_ < sa_;
-            brighter += sb_ > sa_ * (1 + 1e-6) + 1e-9;
-        }
-    }
-    free(strand_of);
-    free(sa);
-    sl_fbuf_free(&a);
+            p.sa[3 * s + q] = 20.0f;
+    CHECK(sl_renderer_set_strand_sigma_a(p.r, p.sa, p.n, &e) == 0);
+    CHECK(frame_tiny_render(p.r, &p.t, &b) == 0);
+    frame_paint_tally y = frame_paint_compare(p.r, &p.t, &p.a, &b);
     sl_fbuf_free(&b);
-    sl_renderer_free(r);
-    free(r);
-    sl_device_close(&dev);
-    tiny_free(&t);
-    if (!changed) {
+    paint_end(&p);
+    if (!y.changed) {
         SKIP("host/frame_shade.c does not read per-strand sigma_a yet (srbfspeed's pass)");
         return;
     }
-    CHECK_MSG(clean > 100 && painted_px > 100, "clean %d, painted %d", clean, painted_px);
-    CHECK(clean_same);
-    CHECK_MSG(brighter == 0, "%d painted pixels brighter", brighter);
-    CHECK_MSG(darker > painted_px / 2, "%d of %d painted pixels darker", darker, painted_px);
+    CHECK_MSG(y.clean > 100 && y.painted_px > 100, "clean %d, painted %d", y.clean, y.painted_px);
+    CHECK(y.clean_same);
+    CHECK_MSG(y.brighter == 0, "%d painted pixels brighter", y.brighter);
+    CHECK_MSG(y.darker > y.painted_px / 2, "%d of %d painted pixels darker", y.darker,
+              y.painted_px);
 }
 
 TEST(frame_material_edits_rerun_only_what_reads_them) {
     /* issue 9: editing beta_R re-runs only shading and the dual-scattering tables (and the
      * march that reads them; the voxel grid is reused); editing sigma_a never re-rasterizes
      * (view and light cached). */
-    tiny t;
-    CHECK(tiny_setup(&t, 150) == 0);
-    t.s.multiple_scattering = SL_MS_ON;
+    frame_tiny t;
     sl_device dev = {0};
-    sl_err e;
-    CHECK(sl_device_open("c", &dev, &e) == 0);
+    tiny_open(&t, 150, &dev);
+    t.s.multiple_scattering = SL_MS_ON;
     sl_renderer *r = new_renderer(&dev, 2);
-    sl_fbuf a;
-    CHECK(render(r, &t, &a) == 0);
-    sl_fbuf_free(&a);
-    CHECK(pass_state(r, "dual") == SL_PASS_RUN);
+    CHECK(frame_tiny_render_drop(r, &t) == 0);
+    CHECK(frame_pass_state(r, "dual") == SL_PASS_RUN);
     t.s.material.beta[0] *= 1.5;
-    CHECK(render(r, &t, &a) == 0);
-    sl_fbuf_free(&a);
-    CHECK(pass_state(r, "light") == SL_PASS_CACHED);
-    CHECK(pass_state(r, "view") == SL_PASS_CACHED);
-    CHECK(pass_state(r, "dual") == SL_PASS_RUN);
-    CHECK(pass_state(r, "volume") == SL_PASS_RUN);
+    CHECK(frame_tiny_render_drop(r, &t) == 0);
+    CHECK(frame_pass_state(r, "light") == SL_PASS_CACHED);
+    CHECK(frame_pass_state(r, "view") == SL_PASS_CACHED);
+    CHECK(frame_pass_state(r, "dual") == SL_PASS_RUN);
+    CHECK(frame_pass_state(r, "volume") == SL_PASS_RUN);
     const sl_pass_rec *v = sl_renderer_pass(r, "volume");
     CHECK(v && strstr(v->why, "grid reused") != NULL);
-    CHECK(pass_state(r, "shade") == SL_PASS_RUN);
+    CHECK(frame_pass_state(r, "shade") == SL_PASS_RUN);
     t.s.material.sigma_a[1] = 1.3;
-    CHECK(render(r, &t, &a) == 0);
-    sl_fbuf_free(&a);
-    CHECK(pass_state(r, "light") == SL_PASS_CACHED);
-    CHECK(pass_state(r, "view") == SL_PASS_CACHED);
+    CHECK(frame_tiny_render_drop(r, &t) == 0);
+    CHECK(frame_pass_state(r, "light") == SL_PASS_CACHED);
+    CHECK(frame_pass_state(r, "view") == SL_PASS_CACHED);
     /* nothing changed: only shading runs again */
-    CHECK(render(r, &t, &a) == 0);
-    sl_fbuf_free(&a);
-    CHECK(pass_state(r, "dual") == SL_PASS_CACHED);
-    CHECK(pass_state(r, "volume") == SL_PASS_CACHED);
+    CHECK(frame_tiny_render_drop(r, &t) == 0);
+    CHECK(frame_pass_state(r, "dual") == SL_PASS_CACHED);
+    CHECK(frame_pass_state(r, "volume") == SL_PASS_CACHED);
     /* MS skipped: no dual tables either */
     t.s.multiple_scattering = SL_MS_OFF;
-    CHECK(render(r, &t, &a) == 0);
-    sl_fbuf_free(&a);
-    CHECK(pass_state(r, "dual") == SL_PASS_SKIPPED);
-    sl_renderer_free(r);
-    free(r);
-    sl_device_close(&dev);
-    tiny_free(&t);
+    CHECK(frame_tiny_render_drop(r, &t) == 0);
+    CHECK(frame_pass_state(r, "dual") == SL_PASS_SKIPPED);
+    delete_renderer(r);
+    frame_tiny_close(&t, &dev);
 }
 
 TEST(frame_threshold_keys_drive_the_planner) {
@@ -613,17 +521,14 @@ TEST(frame_threshold_keys_drive_the_planner) {
      * 0.311, 0.592, so two go); quality.ms_auto_threshold 0 runs
      * MS for black hair, 1 skips it for white hair; quality.point_threshold 0.9 cuts the lobes
      * evaluated per point (lobes AOV) unless the shading ignores it (SKIP). */
-    tiny t;
-    CHECK(tiny_setup(&t, 100) == 0);
+    frame_tiny t;
     sl_device dev = {0};
-    sl_err e;
-    CHECK(sl_device_open("c", &dev, &e) == 0);
+    tiny_open(&t, 100, &dev);
     sl_renderer *r = new_renderer(&dev, 2);
     sl_fbuf a;
     t.s.lobe_threshold = 0.2;
-    CHECK(render(r, &t, &a) == 0);
-    sl_fbuf_free(&a);
-    CHECK(pass_state(r, "lobes") == SL_PASS_SKIPPED);
+    CHECK(frame_tiny_render_drop(r, &t) == 0);
+    CHECK(frame_pass_state(r, "lobes") == SL_PASS_SKIPPED);
     CHECK(r->lobes_used == 2);
     const sl_pass_rec *p = sl_renderer_pass(r, "lobes");
     CHECK(p && strstr(p->why, "quality.lobe_threshold") != NULL);
@@ -631,14 +536,13 @@ TEST(frame_threshold_keys_drive_the_planner) {
     for (int c = 0; c < 3; c++)
         t.s.material.sigma_a[c] = 8.0;
     t.s.ms_auto_threshold = 0;
-    CHECK(render(r, &t, &a) == 0);
-    sl_fbuf_free(&a);
-    CHECK(pass_state(r, "ms") == SL_PASS_RUN);
+    CHECK(frame_tiny_render_drop(r, &t) == 0);
+    CHECK(frame_pass_state(r, "ms") == SL_PASS_RUN);
     for (int c = 0; c < 3; c++)
         t.s.material.sigma_a[c] = 0.0;
     t.s.ms_auto_threshold = 1;
-    CHECK(render(r, &t, &a) == 0);
-    CHECK(pass_state(r, "ms") == SL_PASS_SKIPPED);
+    CHECK(frame_tiny_render(r, &t, &a) == 0);
+    CHECK(frame_pass_state(r, "ms") == SL_PASS_SKIPPED);
     p = sl_renderer_pass(r, "ms");
     CHECK(p && strstr(p->why, "quality.ms_auto_threshold") != NULL);
     double l0 = 0, l1 = 0;
@@ -646,14 +550,12 @@ TEST(frame_threshold_keys_drive_the_planner) {
         l0 += a.lobes[i];
     sl_fbuf_free(&a);
     t.s.point_threshold = 0.9;
-    CHECK(render(r, &t, &a) == 0);
+    CHECK(frame_tiny_render(r, &t, &a) == 0);
     for (int i = 0; i < 64 * 48; i++)
         l1 += a.lobes[i];
     sl_fbuf_free(&a);
-    sl_renderer_free(r);
-    free(r);
-    sl_device_close(&dev);
-    tiny_free(&t);
+    delete_renderer(r);
+    frame_tiny_close(&t, &dev);
     CHECK(l0 > 0);
     if (l1 == l0) {
         SKIP("host/frame_shade.c does not read sl_shade_ctx.point_threshold yet");
@@ -723,17 +625,15 @@ TEST(frame_estimate_covers_allocations) {
     /* sl_frame_estimate_bytes >= what the frame really holds after a frame with MS (K-buffer,
      * counts, frame buffer, deep opacity maps, voxel grid), and not absurdly more (< 4x: the
      * shading points are counted at their fragment-rate maximum) */
-    tiny t;
-    CHECK(tiny_setup(&t, 150) == 0);
+    frame_tiny t;
+    sl_device dev = {0};
+    tiny_open(&t, 150, &dev);
     t.s.multiple_scattering = SL_MS_ON;
     t.s.voxels = 16;
     t.s.lobes = t.l.count;
-    sl_device dev = {0};
-    sl_err e;
-    CHECK(sl_device_open("c", &dev, &e) == 0);
     sl_renderer *r = new_renderer(&dev, 2);
     sl_fbuf a;
-    CHECK(render(r, &t, &a) == 0);
+    CHECK(frame_tiny_render(r, &t, &a) == 0);
     double held = (double)r->vw * r->vh * (r->vK * sizeof(sl_kfrag) + 1) +
                   (double)a.width * a.height * SL_FBUF_FLOATS * sizeof(float);
     for (int j = 0; j < r->nlights; j++)
@@ -742,8 +642,6 @@ TEST(frame_estimate_covers_allocations) {
     double est = (double)sl_frame_estimate_bytes(&t.s, 0);
     CHECK_MSG(est >= held && est < 4 * held, "estimate %.0f, held %.0f", est, held);
     sl_fbuf_free(&a);
-    sl_renderer_free(r);
-    free(r);
-    sl_device_close(&dev);
-    tiny_free(&t);
+    delete_renderer(r);
+    frame_tiny_close(&t, &dev);
 }

@@ -7,56 +7,23 @@
  * are small (fast to build) and cached in the test's own directory. */
 #include "test.h"
 
-#include "frame.h"
+#include "frame_fixture.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
-typedef struct ttiny {
-    sl_scene s;
-    sl_hair h;
-    sl_lobes l;
-    sl_camera cam;
-} ttiny;
-
-/* 150 wavy strands, 4 lobes, 64 x 48, grey absorption (one channel: a third of an rgb build). */
-static int ttiny_setup(ttiny *t) {
-    memset(t, 0, sizeof *t);
-    sl_scene_default(&t->s);
-    t->s.width = 64;
-    t->s.height = 48;
+/* The shared tiny scene (frame_fixture.h): 150 strands, grey absorption (one channel: a third of
+ * an rgb build), no multiple scattering, fragment-rate shading. */
+static int ttiny_setup(frame_tiny *t) {
+    if (frame_tiny_setup(t, 150)) return -1;
     for (int c = 0; c < 3; c++)
         t->s.material.sigma_a[c] = 0.3;
     t->s.material.sigma_a_rgb = 0;
     t->s.multiple_scattering = SL_MS_OFF;
     snprintf(t->s.shading_rate, sizeof t->s.shading_rate, "fragment");
-    sl_hair_procedural p = {SL_PROC_WAVY, 150, 10, 3};
-    sl_err e;
-    if (sl_hair_generate(&p, &t->h, &e)) return -1;
-    static const double dirs[4][3] = {{0, 1, 0}, {0.6, 0.0, 0.8}, {-0.8, 0.0, 0.6}, {0, -1, 0}};
-    static const double lam[4] = {0.5, 0.3, 0.8, 1.0};
-    t->l.count = 4;
-    t->l.lobe = calloc(4, sizeof *t->l.lobe);
-    for (int j = 0; j < 4; j++) {
-        memcpy(t->l.lobe[j].dir, dirs[j], sizeof dirs[j]);
-        t->l.lobe[j].lambda = lam[j];
-        for (int c = 0; c < 3; c++)
-            t->l.lobe[j].rgb[c] = 1.0 + 0.5 * j + 0.1 * c;
-    }
-    float lo[3], hi[3];
-    sl_hair_bounds(&t->h, lo, hi);
-    double target[3];
-    for (int k = 0; k < 3; k++)
-        target[k] = 0.5 * (lo[k] + hi[k]);
-    sl_camera_setup(&t->cam, NULL, target, t->s.up, t->s.fov_deg, 64, 48, lo, hi);
     return 0;
-}
-
-static void ttiny_free(ttiny *t) {
-    sl_hair_free(&t->h);
-    sl_lobes_free(&t->l);
 }
 
 /* A fresh cache directory per test (name), emptied of tables from earlier runs. */
@@ -88,16 +55,19 @@ static void small_params(sl_srbf_ren_params *p, const char *dir) {
     p->cache_dir = dir;
 }
 
-static int tframe(sl_renderer *r, ttiny *t, sl_fbuf *fb) {
+/* A test's start: the tiny scene, the C device, an emptied cache directory `name` (in dir) and
+ * the small table's parameters caching there. */
+static void table_begin(frame_tiny *t, sl_device *dev, const char *name, char *dir, size_t n,
+                        sl_srbf_ren_params *tp) {
     sl_err e;
-    int rc = sl_renderer_frame(r, &t->s, &t->h, &t->l, &t->cam, fb, &e);
-    if (rc) fprintf(stderr, "render: %s\n", e.msg);
-    return rc;
+    CHECK(ttiny_setup(t) == 0);
+    CHECK(sl_device_open("c", dev, &e) == 0);
+    CHECK(table_dir(name, dir, n) != NULL);
+    small_params(tp, dir);
 }
 
 static int srbf_state(const sl_renderer *r) {
-    const sl_pass_rec *p = sl_renderer_pass(r, "srbf");
-    return p ? p->state : -1;
+    return frame_pass_state(r, "srbf");
 }
 
 static int why_has(const sl_renderer *r, const char *s) {
@@ -106,24 +76,18 @@ static int why_has(const sl_renderer *r, const char *s) {
 }
 
 TEST(frame_table_auto_planner) {
-    ttiny t;
-    CHECK(ttiny_setup(&t) == 0);
+    frame_tiny t;
     sl_device dev = {0};
-    sl_err e;
-    CHECK(sl_device_open("c", &dev, &e) == 0);
     char dir[4200];
-    CHECK(table_dir("auto", dir, sizeof dir) != NULL);
     sl_srbf_ren_params tp;
-    small_params(&tp, dir);
+    table_begin(&t, &dev, "auto", dir, sizeof dir, &tp);
     /* the build of the small table: 24 x 8 x 8 x 8 nodes x 3 modes (grey, round fiber) */
     CHECK_NEAR(sl_srbf_ren_build_rows(&t.s.material, &tp), 24.0 * 8 * 8 * 8 * 3, 0);
     sl_renderer r;
-    sl_fbuf fb;
     /* one frame, nothing cached: a build (36864 rows) does not pay for one frame of ~17 000
      * rows (x 0.9) */
     init_r(&r, &dev, SL_RENDER_SRBF_AUTO, 1, &tp);
-    CHECK(tframe(&r, &t, &fb) == 0);
-    sl_fbuf_free(&fb);
+    CHECK(frame_tiny_render_drop(&r, &t) == 0);
     CHECK(r.srbf_used == SL_SRBF_METHOD_FAST);
     CHECK(srbf_state(&r) == SL_PASS_SKIPPED);
     CHECK(why_has(&r, "would not pay off"));
@@ -133,70 +97,60 @@ TEST(frame_table_auto_planner) {
     /* an orbit of 1000 frames pays: built (run), cached on disk; the next frame (camera moved)
      * keeps it in memory */
     init_r(&r, &dev, SL_RENDER_SRBF_AUTO, 1000, &tp);
-    CHECK(tframe(&r, &t, &fb) == 0);
-    sl_fbuf_free(&fb);
+    CHECK(frame_tiny_render_drop(&r, &t) == 0);
     CHECK(r.srbf_used == SL_RENDER_SRBF_TABLE);
     CHECK(srbf_state(&r) == SL_PASS_RUN);
     CHECK(why_has(&r, "pays off"));
     CHECK(sl_srbf_ren_cached(&t.s.material, &tp, NULL));
     t.cam.eye[0] += 1.0;
-    CHECK(tframe(&r, &t, &fb) == 0);
-    sl_fbuf_free(&fb);
+    CHECK(frame_tiny_render_drop(&r, &t) == 0);
     CHECK(r.srbf_used == SL_RENDER_SRBF_TABLE);
     CHECK(srbf_state(&r) == SL_PASS_CACHED);
     /* editing the material: fast while the editing flag is up, even though a table for the
      * old material is in memory */
     sl_renderer_set_editing(&r, 1);
     t.s.material.beta[0] *= 1.1;
-    CHECK(tframe(&r, &t, &fb) == 0);
-    sl_fbuf_free(&fb);
+    CHECK(frame_tiny_render_drop(&r, &t) == 0);
     CHECK(r.srbf_used == SL_SRBF_METHOD_FAST);
     CHECK(why_has(&r, "being edited"));
     sl_renderer_free(&r);
     t.s.material.beta[0] /= 1.1;
     /* a single frame of the original material: the table is in the disk cache -> loaded */
     init_r(&r, &dev, SL_RENDER_SRBF_AUTO, 1, &tp);
-    CHECK(tframe(&r, &t, &fb) == 0);
-    sl_fbuf_free(&fb);
+    CHECK(frame_tiny_render_drop(&r, &t) == 0);
     CHECK(r.srbf_used == SL_RENDER_SRBF_TABLE);
     CHECK(why_has(&r, "disk cache"));
     CHECK(r.have_ren && r.ren.from_cache);
     /* the same renderer, editing flag up: fast although the table is in memory */
     sl_renderer_set_editing(&r, 1);
-    CHECK(tframe(&r, &t, &fb) == 0);
-    sl_fbuf_free(&fb);
+    CHECK(frame_tiny_render_drop(&r, &t) == 0);
     CHECK(r.srbf_used == SL_SRBF_METHOD_FAST);
     /* settled again: back to the table, still in memory */
     sl_renderer_set_editing(&r, 0);
-    CHECK(tframe(&r, &t, &fb) == 0);
-    sl_fbuf_free(&fb);
+    CHECK(frame_tiny_render_drop(&r, &t) == 0);
     CHECK(r.srbf_used == SL_RENDER_SRBF_TABLE);
     CHECK(srbf_state(&r) == SL_PASS_CACHED);
     sl_renderer_free(&r);
     /* eccentric fiber: auto keeps fast however many frames (the rotation average) */
     t.s.material.eccentricity = 0.85;
     init_r(&r, &dev, SL_RENDER_SRBF_AUTO, 100000, &tp);
-    CHECK(tframe(&r, &t, &fb) == 0);
-    sl_fbuf_free(&fb);
+    CHECK(frame_tiny_render_drop(&r, &t) == 0);
     CHECK(r.srbf_used == SL_SRBF_METHOD_FAST);
     CHECK(why_has(&r, "eccentric"));
     sl_renderer_free(&r);
     t.s.material.eccentricity = 1.0;
     /* explicit methods are obeyed: fast with a cached table, table for a single frame */
     init_r(&r, &dev, SL_SRBF_METHOD_FAST, 1000, &tp);
-    CHECK(tframe(&r, &t, &fb) == 0);
-    sl_fbuf_free(&fb);
+    CHECK(frame_tiny_render_drop(&r, &t) == 0);
     CHECK(r.srbf_used == SL_SRBF_METHOD_FAST);
     sl_renderer_free(&r);
     t.s.material.beta[1] *= 1.2; /* not cached: --method table builds it */
     init_r(&r, &dev, SL_RENDER_SRBF_TABLE, 1, &tp);
-    CHECK(tframe(&r, &t, &fb) == 0);
-    sl_fbuf_free(&fb);
+    CHECK(frame_tiny_render_drop(&r, &t) == 0);
     CHECK(r.srbf_used == SL_RENDER_SRBF_TABLE);
     CHECK(srbf_state(&r) == SL_PASS_RUN);
     sl_renderer_free(&r);
-    sl_device_close(&dev);
-    ttiny_free(&t);
+    frame_tiny_close(&t, &dev);
 }
 
 TEST(frame_table_method_names) {
@@ -239,24 +193,18 @@ TEST(frame_table_image_vs_fast) {
      * rows carry; 3x covers the heavier tail weighted by brightness), and the worst pixel below
      * 2x the table's p95 relative to the brightest pixel. Alpha is untouched (the view pass does
      * not depend on the method): bit-identical. */
-    ttiny t;
-    CHECK(ttiny_setup(&t) == 0);
+    frame_tiny t;
     sl_device dev = {0};
-    sl_err e;
-    CHECK(sl_device_open("c", &dev, &e) == 0);
     char dir[4200];
-    CHECK(table_dir("image", dir, sizeof dir) != NULL);
     sl_srbf_ren_params tp;
-    sl_srbf_ren_params_default(&tp);
-    tp.n_h = 48, tp.n_t = 12, tp.n_phi = 16, tp.n_lambda = 12;
-    tp.threads = 2;
-    tp.cache_dir = dir;
+    table_begin(&t, &dev, "image", dir, sizeof dir, &tp);
+    tp.n_h = 48, tp.n_t = 12, tp.n_phi = 16, tp.n_lambda = 12; /* mid-size, 2 threads, dir */
     sl_renderer rf, rt;
     sl_fbuf a, b;
     init_r(&rf, &dev, SL_SRBF_METHOD_FAST, 1, &tp);
     init_r(&rt, &dev, SL_RENDER_SRBF_TABLE, 1, &tp);
-    CHECK(tframe(&rf, &t, &a) == 0);
-    CHECK(tframe(&rt, &t, &b) == 0);
+    CHECK(frame_tiny_render(&rf, &t, &a) == 0);
+    CHECK(frame_tiny_render(&rt, &t, &b) == 0);
     CHECK(rt.srbf_used == SL_RENDER_SRBF_TABLE && rt.have_ren);
     double worst, err = image_err(&a, &b, &worst);
     double tol = 3 * rt.ren.err_median + 0.01, tolw = 2 * rt.ren.err_p95;
@@ -276,8 +224,7 @@ TEST(frame_table_image_vs_fast) {
     sl_fbuf_free(&b);
     sl_renderer_free(&rf);
     sl_renderer_free(&rt);
-    sl_device_close(&dev);
-    ttiny_free(&t);
+    frame_tiny_close(&t, &dev);
 }
 
 TEST(frame_table_paint_only_painted_strands) {
@@ -286,70 +233,44 @@ TEST(frame_table_paint_only_painted_strands) {
      * rows still come from the table), and painted pixels never get brighter. Overrides equal to
      * the material's sigma_a change nothing at all (bit-identical: every row stays a table
      * row). */
-    ttiny t;
-    CHECK(ttiny_setup(&t) == 0);
+    frame_tiny t;
     sl_device dev = {0};
     sl_err e;
-    CHECK(sl_device_open("c", &dev, &e) == 0);
     char dir[4200];
-    CHECK(table_dir("paint", dir, sizeof dir) != NULL);
     sl_srbf_ren_params tp;
-    small_params(&tp, dir);
+    table_begin(&t, &dev, "paint", dir, sizeof dir, &tp);
     sl_renderer r;
     init_r(&r, &dev, SL_RENDER_SRBF_TABLE, 1, &tp);
     sl_fbuf a, b, c;
-    CHECK(tframe(&r, &t, &a) == 0);
+    CHECK(frame_tiny_render(&r, &t, &a) == 0);
     uint32_t n = t.h.num_strands;
-    float *sa = malloc(3 * n * sizeof *sa);
-    for (uint32_t s = 0; s < n; s++)
-        for (int q = 0; q < 3; q++)
-            sa[3 * s + q] = (float)t.s.material.sigma_a[q];
+    float *sa = frame_strand_sigma_a(&t);
     CHECK(sl_renderer_set_strand_sigma_a(&r, sa, n, &e) == 0);
-    CHECK(tframe(&r, &t, &c) == 0);
+    CHECK(frame_tiny_render(&r, &t, &c) == 0);
     CHECK(memcmp(a.rgba, c.rgba, 64 * 48 * 4 * sizeof(float)) == 0);
     CHECK(!why_has(&r, "painted"));
     for (uint32_t s = 1; s < n; s += 2)
         for (int q = 0; q < 3; q++)
             sa[3 * s + q] = 20.0f;
     CHECK(sl_renderer_set_strand_sigma_a(&r, sa, n, &e) == 0);
-    CHECK(tframe(&r, &t, &b) == 0);
+    CHECK(frame_tiny_render(&r, &t, &b) == 0);
     CHECK(r.srbf_used == SL_RENDER_SRBF_TABLE);
     CHECK(why_has(&r, "painted strands"));
-    uint32_t *strand_of = malloc(t.h.num_points * sizeof *strand_of);
-    for (uint32_t s = 0; s < n; s++)
-        for (uint32_t i = t.h.strand_first[s]; i < t.h.strand_first[s + 1]; i++)
-            strand_of[i] = s;
-    int clean = 0, clean_same = 1, painted_px = 0, darker = 0, brighter = 0;
-    for (int px = 0; px < 64 * 48; px++) {
-        int k = r.kcount[px], painted = 0;
-        for (int i = 0; i < k; i++)
-            painted |= strand_of[r.kbuf[px * r.vK + i].seg] % 2;
-        double sa_ = a.rgba[4 * px] + a.rgba[4 * px + 1] + a.rgba[4 * px + 2];
-        double sb_ = b.rgba[4 * px] + b.rgba[4 * px + 1] + b.rgba[4 * px + 2];
-        if (!painted) {
-            clean++;
-            clean_same &= memcmp(a.rgba + 4 * px, b.rgba + 4 * px, 4 * sizeof(float)) == 0;
-        } else if (a.rgba[4 * px + 3] > 0.05f) {
-            /* painted rows: fast with sigma_a 20 against the table with 0.3; TT and TRT fall
-             * by e^-(several) while the table's own error is a few %: never brighter beyond
-             * 1e-6 relative (float rounding of the composite) */
-            painted_px++;
-            darker += sb_ < sa_;
-            brighter += sb_ > sa_ * (1 + 1e-6) + 1e-9;
-        }
-    }
-    CHECK_MSG(clean > 100 && painted_px > 100, "clean %d, painted %d", clean, painted_px);
-    CHECK(clean_same);
-    CHECK_MSG(brighter == 0, "%d painted pixels brighter", brighter);
-    CHECK_MSG(darker > painted_px / 2, "%d of %d painted pixels darker", darker, painted_px);
-    free(strand_of);
+    /* painted rows: fast with sigma_a 20 against the table with 0.3; TT and TRT fall by
+     * e^-(several) while the table's own error is a few %: never brighter beyond 1e-6 relative
+     * (float rounding of the composite; the bound is in frame_paint_compare) */
+    frame_paint_tally y = frame_paint_compare(&r, &t, &a, &b);
+    CHECK_MSG(y.clean > 100 && y.painted_px > 100, "clean %d, painted %d", y.clean, y.painted_px);
+    CHECK(y.clean_same);
+    CHECK_MSG(y.brighter == 0, "%d painted pixels brighter", y.brighter);
+    CHECK_MSG(y.darker > y.painted_px / 2, "%d of %d painted pixels darker", y.darker,
+              y.painted_px);
     free(sa);
     sl_fbuf_free(&a);
     sl_fbuf_free(&b);
     sl_fbuf_free(&c);
     sl_renderer_free(&r);
-    sl_device_close(&dev);
-    ttiny_free(&t);
+    frame_tiny_close(&t, &dev);
 }
 
 TEST(frame_table_opencl_equals_c) {
@@ -358,14 +279,14 @@ TEST(frame_table_opencl_equals_c) {
      * the compilers' different contraction of a*b+c (measured on the lookup alone: within
      * 1e-4 relative, test srbf_ren_c_vs_opencl) and the other passes' own C/OpenCL difference
      * (frame_c_vs_opencl) */
-    ttiny t;
+    frame_tiny t;
     CHECK(ttiny_setup(&t) == 0);
     sl_device dc = {0}, dcl = {0};
     sl_err e;
     CHECK(sl_device_open("c", &dc, &e) == 0);
     if (sl_device_open("opencl", &dcl, &e)) {
         sl_device_close(&dc);
-        ttiny_free(&t);
+        frame_tiny_free(&t);
         SKIP("no OpenCL device");
         return;
     }
@@ -377,14 +298,10 @@ TEST(frame_table_opencl_equals_c) {
     init_r(&rc, &dc, SL_RENDER_SRBF_TABLE, 1, &tp);
     init_r(&rcl, &dcl, SL_RENDER_SRBF_TABLE, 1, &tp);
     sl_fbuf a, b;
-    CHECK(tframe(&rc, &t, &a) == 0);
-    CHECK(tframe(&rcl, &t, &b) == 0);
+    CHECK(frame_tiny_render(&rc, &t, &a) == 0);
+    CHECK(frame_tiny_render(&rcl, &t, &b) == 0);
     CHECK(rcl.srbf_used == SL_RENDER_SRBF_TABLE && rcl.ren_mem != NULL);
-    double md = 0, mx = 0;
-    for (int i = 0; i < 64 * 48 * 4; i++) {
-        md = fmax(md, fabs(a.rgba[i] - b.rgba[i]));
-        mx = fmax(mx, fabs(a.rgba[i]));
-    }
+    double mx, md = frame_max_diff(&a, &b, &mx);
     CHECK(mx > 0);
     CHECK_MSG(md <= 1e-4 * mx, "max diff %g of %g", md, mx);
     sl_fbuf_free(&a);
@@ -393,23 +310,20 @@ TEST(frame_table_opencl_equals_c) {
     sl_renderer_free(&rcl);
     sl_device_close(&dc);
     sl_device_close(&dcl);
-    ttiny_free(&t);
+    frame_tiny_free(&t);
 }
 
 TEST(frame_table_threads_bit_identical) {
     /* the shading pass splits points over threads, each shading its own points: the frame (table
      * rows, painted rows on fast, multiple scattering on) must not depend on the thread count
      * (tolerance 0: every row is evaluated by the same code whatever the split) */
-    ttiny t;
-    CHECK(ttiny_setup(&t) == 0);
-    t.s.multiple_scattering = SL_MS_ON;
+    frame_tiny t;
     sl_device dev = {0};
     sl_err e;
-    CHECK(sl_device_open("c", &dev, &e) == 0);
     char dir[4200];
-    CHECK(table_dir("threads", dir, sizeof dir) != NULL);
     sl_srbf_ren_params tp;
-    small_params(&tp, dir);
+    table_begin(&t, &dev, "threads", dir, sizeof dir, &tp);
+    t.s.multiple_scattering = SL_MS_ON;
     uint32_t n = t.h.num_strands;
     float *sa = malloc(3 * n * sizeof *sa);
     for (uint32_t s = 0; s < n; s++)
@@ -427,7 +341,7 @@ TEST(frame_table_threads_bit_identical) {
         sl_renderer r;
         sl_renderer_init(&r, &dev, &o);
         CHECK(sl_renderer_set_strand_sigma_a(&r, sa, n, &e) == 0);
-        CHECK(tframe(&r, &t, &fb[k]) == 0);
+        CHECK(frame_tiny_render(&r, &t, &fb[k]) == 0);
         CHECK(r.srbf_used == SL_RENDER_SRBF_TABLE);
         sl_renderer_free(&r);
     }
@@ -436,6 +350,5 @@ TEST(frame_table_threads_bit_identical) {
     for (int k = 0; k < 3; k++)
         sl_fbuf_free(&fb[k]);
     free(sa);
-    sl_device_close(&dev);
-    ttiny_free(&t);
+    frame_tiny_close(&t, &dev);
 }

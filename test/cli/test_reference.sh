@@ -4,27 +4,12 @@
 # cached result (no render), the image does not depend on the thread count, and bad input gives
 # a one-line error and no output file. The numerics are checked by unit_tests reference_.
 . test/cli/lib.sh
-D="$TMP/reference"
-rm -rf "$D"
-mkdir -p "$D"
-if [ -z "${PY:-}" ]; then
-    if [ -x /usr/bin/python3 ]; then PY=/usr/bin/python3; else PY=python3; fi
-fi
-if ! command -v "$PY" >/dev/null 2>&1; then skip reference "no python3"; exit 0; fi
+. test/cli/reference_lib.sh
+ref_setup reference
 
 "$PY" - "$D" <<'PYEOF'
-import sys, math
+import sys
 d = sys.argv[1]
-# 16 x 8 flat RGBE map: a bright warm band near the top, a dim blue ground.
-w, h = 16, 8
-def rgbe(r, g, b):
-    m = max(r, g, b)
-    if m < 1e-32: return bytes([0, 0, 0, 0])
-    e = math.frexp(m)[1]
-    s = 256.0 / (2.0 ** e)
-    return bytes([int(r * s), int(g * s), int(b * s), e + 128])
-px = b"".join(rgbe(*((4.0, 3.0, 2.0) if y < 2 else (0.2, 0.3, 0.6))) for y in range(h) for x in range(w))
-open(d + "/sky.hdr", "wb").write(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" % (h, w) + px)
 base = '"hair": {"procedural": {"style": "wavy", "strands": 20, "points": 8, "seed": 2}, "radius": 0.3}, "environment": {"file": "sky.hdr"}, "image": {"width": 32, "height": 24}, "quality": {"multiple_scattering": "%s"}'
 open(d + "/scene.json", "w").write("{" + base % "off" + "}\n")
 open(d + "/scene_ms.json", "w").write("{" + base % "on" + "}\n")
