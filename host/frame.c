@@ -215,6 +215,19 @@ static int hair_transparent(const sl_hair *h) {
 }
 
 /* Light pass: one deep opacity map per used lobe, cached by key. */
+/* A broad lobe of the light pass: its position in the used list, its split directions and its
+ * power (the budget's extra maps go to the most powerful first). */
+typedef struct split_order {
+    int lobe, dirs;
+    double power;
+} split_order;
+
+static int split_order_cmp(const void *a, const void *b) {
+    const split_order *x = a, *y = b;
+    if (x->power != y->power) return x->power > y->power ? -1 : 1;
+    return x->lobe - y->lobe; /* ties: the used order, so the plan is deterministic */
+}
+
 static int light_pass(sl_renderer *r, const sl_scene *s, const sl_hair *h, const sl_lobes *lobes,
                       const int *used, int nused, sl_err *e) {
     sl_shadow_opts so;
@@ -244,24 +257,24 @@ static int light_pass(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     int nmaps = 0, nsplit = 0;
     double sd[3 * SL_SHADOW_SPLIT_N], sw[SL_SHADOW_SPLIT_N];
     int *want = sl_malloc((nused ? nused : 1) * sizeof *want);
-    for (int j = 0; j < nused; j++)
-        want[j] = sl_shadow_split(lobes->lobe[used[j]].dir, lobes->lobe[used[j]].lambda, sd, sw);
-    int extra = (SL_SHADOW_SPLIT_MAPS_PER_LOBE - 1) * nused;
-    for (;;) { /* the most powerful broad lobe not yet served */
-        int best = -1;
-        double bp = -1;
-        for (int j = 0; j < nused; j++) {
-            const sl_lobe *lb = &lobes->lobe[used[j]];
-            double pw = (lb->rgb[0] + lb->rgb[1] + lb->rgb[2]) * sl_lobe_integral(lb->lambda);
-            if (want[j] > 1 && pw > bp) best = j, bp = pw;
-        }
-        if (best < 0) break;
-        int give = want[best] - 1 < extra ? want[best] - 1 : extra;
-        extra -= give;
-        want[best] = -(1 + give); /* served: negative marks it */
-    }
+    split_order *order = sl_malloc((nused ? nused : 1) * sizeof *order);
+    int nbroad = 0;
     for (int j = 0; j < nused; j++) {
-        want[j] = want[j] < 0 ? -want[j] : 1;
+        const sl_lobe *lb = &lobes->lobe[used[j]];
+        int c = sl_shadow_split(lb->dir, lb->lambda, sd, sw);
+        want[j] = 1;
+        if (c > 1)
+            order[nbroad++] = (split_order){
+                j, c, (lb->rgb[0] + lb->rgb[1] + lb->rgb[2]) * sl_lobe_integral(lb->lambda)};
+    }
+    qsort(order, (size_t)nbroad, sizeof *order, split_order_cmp);
+    for (int b = 0, extra = (SL_SHADOW_SPLIT_MAPS_PER_LOBE - 1) * nused; b < nbroad; b++) {
+        int give = order[b].dirs - 1 < extra ? order[b].dirs - 1 : extra;
+        want[order[b].lobe] = 1 + give;
+        extra -= give;
+    }
+    free(order);
+    for (int j = 0; j < nused; j++) {
         nmaps += want[j];
         nsplit += want[j] > 1;
     }

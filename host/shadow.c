@@ -39,10 +39,14 @@ static int auto_z0_radius(const sl_hair *h, double kappa, double texel) {
     return m > SL_SHADOW_Z0_MAX_RADIUS ? SL_SHADOW_Z0_MAX_RADIUS : (int)m;
 }
 
-double sl_shadow_support_angle(double lambda) {
+double sl_shadow_lobe_support(double lambda) {
     /* exp(2 (cos a - 1) / lambda^2) = G  =>  cos a = 1 + lambda^2 ln(G) / 2 */
     double c = 1.0 + lambda * lambda * log(SL_SHADOW_SUPPORT_G) / 2.0;
-    double a = c <= -1.0 ? M_PI : acos(c), amax = SL_SHADOW_SUPPORT_MAX_DEG * M_PI / 180.0;
+    return c <= -1.0 ? M_PI : acos(c);
+}
+
+double sl_shadow_support_angle(double lambda) {
+    double a = sl_shadow_lobe_support(lambda), amax = SL_SHADOW_SUPPORT_MAX_DEG * M_PI / 180.0;
     /* Capped: from lambda ~0.29 on, the 1e-3 support passes 30 degrees and by 0.54 reaches 90,
      * where the filter box covered the whole map and T -> 1 for every point (measured: T 0.91-0.97
      * against the ray-traced 0.15-0.18 for lambda >= 0.52 at the default scene's vertices; with

@@ -87,7 +87,10 @@ typedef struct sl_dodm {
 void sl_shadow_opts_default(sl_shadow_opts *o);
 
 /* Support angle alpha of G(omega; xi, lambda) = exp(2 (cos - 1) / lambda^2): G(alpha) =
- * SL_SHADOW_SUPPORT_G, capped at SL_SHADOW_SUPPORT_MAX_DEG (broad lobes). */
+ * SL_SHADOW_SUPPORT_G; pi when the lobe is wider than that everywhere. */
+double sl_shadow_lobe_support(double lambda);
+/* The same capped at SL_SHADOW_SUPPORT_MAX_DEG: the lookup's filter support (broad lobes are
+ * split into several maps instead, host/shadow_split.h). */
 double sl_shadow_support_angle(double lambda);
 
 /* The view along light direction -dir (dir points toward the light) that covers the bounding

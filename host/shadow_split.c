@@ -6,9 +6,7 @@
 #include <math.h>
 
 int sl_shadow_split(const double dir[3], double lambda, double *dirs, double *w) {
-    double c = 1.0 + lambda * lambda * log(SL_SHADOW_SUPPORT_G) / 2.0;
-    double support = c <= -1.0 ? M_PI : acos(c);
-    if (support <= SL_SHADOW_SUPPORT_MAX_DEG * M_PI / 180.0) {
+    if (sl_shadow_lobe_support(lambda) <= SL_SHADOW_SUPPORT_MAX_DEG * M_PI / 180.0) {
         for (int k = 0; k < 3; k++)
             dirs[k] = dir[k];
         w[0] = 1.0;

@@ -12,7 +12,8 @@
 /* Directions on the whole sphere before the cut (a spherical Fibonacci set with both poles on
  * the lobe axis): spacing ~sqrt(4 pi / 12) = 59 degrees, twice the capped 30-degree support. */
 #define SL_SHADOW_SPLIT_N 12
-/* Directions whose weight is below this share of the axis's are dropped (and the rest renormalised). */
+/* Directions whose weight is below this share of the axis's are dropped (and the rest
+ * renormalised). */
 #define SL_SHADOW_SPLIT_CUT 0.05
 
 /* Fills dirs (3 per direction, unit) and w (summing to 1) for the lobe (dir unit, toward the
