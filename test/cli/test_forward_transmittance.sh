@@ -24,18 +24,10 @@ if [ -z "${PY:-}" ]; then
 fi
 if ! command -v "$PY" >/dev/null 2>&1; then skip forward_transmittance "no python3"; exit 0; fi
 
+"$PY" test/cli/slab_hair.py "$D/slab.hair" 12000 0.0005
 "$PY" - "$D" <<'PYEOF'
-import random, struct, sys
+import random, sys
 d = sys.argv[1]
-random.seed(5)
-nf, r = 12000, 0.0005
-with open(d + "/slab.hair", "wb") as f:
-    hdr = b"HAIR" + struct.pack("<IIII", nf, 2 * nf, 2, 1) + struct.pack("<ff", 2 * r, 0.0)
-    hdr += struct.pack("<fff", 0.5, 0.5, 0.5)
-    f.write(hdr + b"\0" * (128 - len(hdr)))
-    for i in range(nf):
-        y, z = random.uniform(-2, 2), random.uniform(-1, 0)
-        f.write(struct.pack("<6f", -2, y, z, 2, y, z))
 open(d + "/lobes.json", "w").write('{"lobes": [{"dir": [0, 0, 1], "lambda": 0.05, "rgb": [1, 1, 1]}, '
                                    '{"dir": [0, 0.6, 0.8], "lambda": 0.05, "rgb": [1, 1, 1]}]}\n')
 open(d + "/scene.json", "w").write('{"hair": {"file": "slab.hair"}, "environment": {"lobes": "lobes.json"}, '
