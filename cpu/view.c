@@ -11,10 +11,33 @@
 
 #include "common.h"
 
+/* A pixel the previous segment of the current strand touched: its running sums (coverage mass
+ * M, opacity-weighted mass, depth-weighted mass) and the fragment they became (idx, or NO_FRAG
+ * while the coverage is below the drop threshold), and the shading point of the member with the
+ * largest share. */
+struct slc_run_px {
+    uint32_t pix, seg;
+    float t;
+    size_t idx;
+    double m, ma, mz, best;
+};
+#define NO_FRAG ((size_t)-1)
+#define DROP_ALPHA 1e-4f /* view.h: below this a fragment changes no 16-bit half output */
+
 void slc_frag_list_free(slc_frag_list *l) {
     free(l->f);
     free(l->pix);
+    free(l->run);
+    free(l->run_next);
     memset(l, 0, sizeof *l);
+}
+
+static void run_push(slc_frag_list *l, struct slc_run_px e) {
+    if (l->run_n == l->run_next_cap) { /* run_n counts run_next while a segment is being built */
+        l->run_next_cap = l->run_next_cap ? 2 * l->run_next_cap : 64;
+        l->run_next = sl_realloc(l->run_next, l->run_next_cap * sizeof *l->run_next);
+    }
+    l->run_next[l->run_n++] = e;
 }
 
 static void push(slc_frag_list *l, uint32_t pix, sl_kfrag f) {
@@ -48,15 +71,24 @@ static void share_sort(share *s, size_t k) {
 
 void slc_view_segment(const double p0[3], const double p1[3], double hw, float a0, float a1,
                       uint32_t seg, int w, int h, slc_frag_list *out) {
+    /* the next segment of the strand the previous call drew (view.h): same point, next index */
+    const int cont = out->has_last && seg == out->last_seg + 1u && p0[0] == out->last_p1[0] &&
+                     p0[1] == out->last_p1[1] && p0[2] == out->last_p1[2];
+    out->has_last = 1;
+    out->last_seg = seg;
+    memcpy(out->last_p1, p1, sizeof out->last_p1);
+    if (!cont) out->run_n = 0;
     float rec[SL_RASTER_REC];
     slc_raster_record(p0, p1, hw, 1.0, rec); /* mass in pixel^2 */
     const sl_uint na = (sl_uint)rec[9], nw = (sl_uint)rec[10];
-    if (na == 0 || nw == 0) return;
-    /* quick reject: the ribbon's bounding box misses the image */
+    if (na == 0 || nw == 0) return; /* no area (end-on): the strand's run goes on past it */
+    /* quick reject: the ribbon's bounding box misses the image (it touches no pixel) */
     double r = hw + 2.0;
     if (fmax(p0[0], p1[0]) + r < 0 || fmin(p0[0], p1[0]) - r > w || fmax(p0[1], p1[1]) + r < 0 ||
-        fmin(p0[1], p1[1]) - r > h)
+        fmin(p0[1], p1[1]) - r > h) {
+        out->run_n = 0;
         return;
+    }
     size_t ns = (size_t)na * nw * 4, k = 0;
     share stack[512];
     share *s = ns <= 512 ? stack : sl_malloc(ns * sizeof *s);
@@ -78,17 +110,51 @@ void slc_view_segment(const double p0[3], const double p1[3], double hw, float a
         }
     }
     share_sort(s, k);
+    /* the previous segment's pixels (sorted by pixel, as the shares are): a merge join */
+    struct slc_run_px *prev = out->run;
+    const size_t nprev = out->run_n;
+    size_t jp = 0;
+    out->run_n = 0; /* now counts run_next: this segment's pixels */
     for (size_t a = 0; a < k;) {
         size_t b = a;
         double M = 0, Mt = 0, Mz = 0;
         for (; b < k && s[b].pix == s[a].pix; b++)
             M += s[b].m, Mt += s[b].mt, Mz += s[b].mz;
+        const uint32_t pix = s[a].pix;
+        a = b;
         double cov = M < 1.0 ? M : 1.0, t = Mt / M;
         double a_op = a0 + t * (a1 - a0);
+        while (jp < nprev && prev[jp].pix < pix)
+            jp++;
+        if (jp < nprev && prev[jp].pix == pix) {
+            /* one ribbon: the shares add (coverage min(1, M1 + M2)), no "over" */
+            struct slc_run_px e = prev[jp];
+            e.m += M, e.ma += M * a_op, e.mz += Mz;
+            if (M > e.best) e.best = M, e.seg = seg, e.t = (float)t;
+            const float alpha = (float)((e.m < 1.0 ? e.m : 1.0) * (e.ma / e.m));
+            const sl_kfrag f = {(float)(e.mz / e.m), alpha, e.seg, e.t};
+            if (e.idx != NO_FRAG) {
+                out->f[e.idx] = f;
+            } else if (alpha >= DROP_ALPHA) {
+                e.idx = out->n;
+                push(out, pix, f);
+            }
+            run_push(out, e);
+            continue;
+        }
         float alpha = (float)(cov * a_op);
-        if (alpha >= 1e-4f) push(out, s[a].pix, (sl_kfrag){(float)(Mz / M), alpha, seg, (float)t});
-        a = b;
+        size_t idx = NO_FRAG;
+        if (alpha >= DROP_ALPHA) {
+            idx = out->n;
+            push(out, pix, (sl_kfrag){(float)(Mz / M), alpha, seg, (float)t});
+        }
+        run_push(out, (struct slc_run_px){pix, seg, (float)t, idx, M, M * a_op, Mz, M});
     }
+    /* this segment's pixels become the run the next segment continues */
+    struct slc_run_px *tmp = out->run;
+    size_t tcap = out->run_cap;
+    out->run = out->run_next, out->run_cap = out->run_next_cap;
+    out->run_next = tmp, out->run_next_cap = tcap;
     if (s != stack) free(s);
 }
 

@@ -193,10 +193,13 @@ else
     if [ "$(png maxdiff "$D/exp_beta.png" "$D/exp_probe.png")" = 0 ]; then
         skip view_paint_changes_region "render ignores material.strand_sigma_a (per-strand shading not in frame_shade.c yet)"
     else
-        # under the brush (its 12x12 box): at least 8 pixels changed by more than 8 code values
-        # (sigma_a 0.2/0.35/0.6 -> 0.02/1.5/4 turns brown hair orange: tens of code values;
-        # thin strands at this size cover only part of the box); left of x = 70: no change
-        m=$(png changed "$D/beta.png" "$D/painted.png" 94 34 106 46 8)
+        # under the brush (its 12x12 box): at least 8 pixels changed by more than 4 code values,
+        # twice the display tolerance TOL, so display rounding cannot pass it (sigma_a
+        # 0.2/0.35/0.6 -> 0.02/1.5/4 turns brown hair orange, but thin strands at this size cover
+        # only part of the box and the hair is dark there: measured 39-43 pixels above 4, 4-7
+        # above 8 since consecutive segments add their coverage, docs/coverage.md); left of
+        # x = 70: no change at all
+        m=$(png changed "$D/beta.png" "$D/painted.png" 94 34 106 46 4)
         l=$(png maxdiff "$D/beta.png" "$D/painted.png" 0 0 70 120)
         if le 8 "$m" && [ "$l" = 0 ]; then pass view_paint_changes_region
         else fail view_paint_changes_region "$m pixels changed under the brush (want >= 8), max change left $l (want 0)"; fi
