@@ -21,7 +21,8 @@
  * integrates the smooth rest with 6-point Gauss-Hermite (Xu Sec. 4.2.2's idea; nodes outside
  * [-pi/2, pi/2] count 0). N^G is tabulated per material (sl_msr_NG_row: 65 theta_d x 65 D per
  * mode and channel) and read bilinearly; eccentric TRT uses the roll-mean eta*
- * ((eta*_1 + eta*_2) / 2). */
+ * ((eta*_1 + eta*_2) / 2). The renderer reads the whole response from a per-material table built
+ * from the pieces below (kernels/ms_table.h); sl_ms_response_1 is its reference. */
 #ifndef SL_MS_RESPONSE_H
 #define SL_MS_RESPONSE_H
 
@@ -107,14 +108,21 @@ SL_INLINE void sl_msr_NG_row(const sl_fiber_params *fp, int t, float eta, int i,
     }
 }
 
-/* Bilinear N^G_t(D, theta_d) from a channel's table. */
-SL_INLINE float sl_msr_NG(SL_GLOBAL const float *ng, int t, float theta_d, float D) {
+/* Row i of the theta_d axis of the N^G table and the fraction *fi toward row i + 1. */
+SL_INLINE int sl_msr_td_locate(float theta_d, float *fi) {
     float a = sl_minf(fabs(theta_d) / SL_DUAL_HALF_PI, 1.0f);
     float x = asin(a) * ((float)(SL_MSR_NT - 1) / SL_DUAL_HALF_PI);
     int i = (int)x;
     if (i > SL_MSR_NT - 2) i = SL_MSR_NT - 2;
     float t0 = sl_msr_node_td(i), t1 = sl_msr_node_td(i + 1);
-    float fi = sl_clampf((sl_minf(fabs(theta_d), SL_DUAL_HALF_PI) - t0) / (t1 - t0), 0.0f, 1.0f);
+    *fi = sl_clampf((sl_minf(fabs(theta_d), SL_DUAL_HALF_PI) - t0) / (t1 - t0), 0.0f, 1.0f);
+    return i;
+}
+
+/* Bilinear N^G_t(D, theta_d) from a channel's table. */
+SL_INLINE float sl_msr_NG(SL_GLOBAL const float *ng, int t, float theta_d, float D) {
+    float fi;
+    int i = sl_msr_td_locate(theta_d, &fi);
     float y = sl_minf(fabs(sl_wrap_pi(D)), SL_PI_F) * ((float)(SL_MSR_ND - 1) / SL_PI_F);
     int k = (int)y;
     if (k > SL_MSR_ND - 2) k = SL_MSR_ND - 2;
@@ -122,6 +130,58 @@ SL_INLINE float sl_msr_NG(SL_GLOBAL const float *ng, int t, float theta_d, float
     SL_GLOBAL const float *r0 = ng + (t * SL_MSR_NT + i) * SL_MSR_ND, *r1 = r0 + SL_MSR_ND;
     float v0 = r0[k] + fk * (r0[k + 1] - r0[k]), v1 = r1[k] + fk * (r1[k + 1] - r1[k]);
     return v0 + fi * (v1 - v0);
+}
+
+/* The global term's theta_i integral for mode t (Xu Eq. 27): g(theta_i; theta_j, s_F)
+ * M_t((theta_i + theta_o)/2) is a Gaussian in theta_i centred at 2 alpha_t - theta_o of width
+ * 2 beta_t times g's; their product is pref times a normalised Gaussian whose 6 Gauss-Hermite
+ * nodes give td[q] (theta_d) and wq[q] (weight times cos^2 theta_i / cos^2 theta_d; 0 for nodes
+ * outside (-pi/2, pi/2)). Returns pref; the mode's part of cos theta_j M^G is
+ * pref sum_q wq[q] N^G_t(td[q], D). */
+SL_INLINE float sl_msr_global_nodes(const sl_fiber_params *fp, int t, float theta_o, float theta_j,
+                                    float sF, float *td, float *wq) {
+    float m, s;
+    float k = sl_msr_gprod(theta_j, sF, 2.0f * fp->alpha[t] - theta_o, 2.0f * fp->beta[t], &m, &s);
+    float pref = k / (SL_SQRT_PI_F * sF) / (SL_SQRT_PI_F * fp->beta[t]) * SL_SQRT_PI_F * s;
+    for (int q = 0; q < 6; q++) {
+        float ti = m + s * ((q & 1) ? -sl_msr_ghx[q >> 1] : sl_msr_ghx[q >> 1]);
+        td[q] = 0.5f * (theta_o - ti);
+        wq[q] = 0.0f;
+        if (!(fabs(ti) < SL_DUAL_HALF_PI)) continue;
+        float ctd = cos(td[q]), cti = cos(ti);
+        wq[q] = sl_msr_ghw[q >> 1] * cti * cti / (ctd * ctd);
+    }
+    return pref;
+}
+
+/* The local term's means ~Delta_b, ~sigma_b over theta_d in (theta_j - theta_o +- s_F) / 2
+ * (Xu Eq. 31, the tables' SATs). */
+SL_INLINE void sl_msr_local_means(SL_GLOBAL const float *tab, float theta_o, float theta_j,
+                                  float sF, float *dB, float *sB) {
+    float a = 0.5f * (theta_j - sF - theta_o), b = 0.5f * (theta_j + sF - theta_o);
+    *dB = sl_dual_mean(tab, SL_DUAL_DELTA_B, a, b);
+    *sB = sl_maxf(sl_dual_mean(tab, SL_DUAL_SIGMA_B, a, b), 1e-4f);
+}
+
+/* The local term without its separable factors (Xu Eq. 29-31): cos theta_j pi^2 / (2 (pi - |D|))
+ * M^L = pref sum_q w_q A_b(theta_d) cos^2 theta_i / cos^2 theta_d, the product of the lobe's
+ * g(theta_i; theta_j, s_F) and g(theta_i; ~Delta_b - theta_o, ~sigma_b) (pref times a normalised
+ * Gaussian) by Gauss-Hermite. Returns the sum; *pref the product's factor. */
+SL_INLINE float sl_msr_local_core(SL_GLOBAL const float *tab, float theta_o, float theta_j,
+                                  float sF, float *pref_out) {
+    float dB, sB, m, s;
+    sl_msr_local_means(tab, theta_o, theta_j, sF, &dB, &sB);
+    float k = sl_msr_gprod(theta_j, sF, dB - theta_o, sB, &m, &s);
+    float pref = k / (SL_SQRT_PI_F * sF) / (SL_SQRT_PI_F * sB) * SL_SQRT_PI_F * s;
+    float acc = 0.0f;
+    for (int q = 0; q < 6; q++) {
+        float ti = m + s * ((q & 1) ? -sl_msr_ghx[q >> 1] : sl_msr_ghx[q >> 1]);
+        if (!(fabs(ti) < SL_DUAL_HALF_PI)) continue;
+        float td = 0.5f * (theta_o - ti), ctd = cos(td), cti = cos(ti);
+        acc += sl_msr_ghw[q >> 1] * cti * cti / (ctd * ctd) * sl_dual_lookup(tab, SL_DUAL_A_B, td);
+    }
+    *pref_out = pref;
+    return acc;
 }
 
 /* M^G and M^L of one channel (the top of the file). theta_o, phi_o: the view; theta_j, phi_j,
@@ -136,41 +196,18 @@ SL_INLINE void sl_ms_response_1(const sl_fiber_params *fp, SL_GLOBAL const float
     *MG = 0.0f;
     *ML = 0.0f;
     if (!(ctj > 1e-4f) || !(sF > 0.0f)) return;
-    float gnorm = 1.0f / (SL_SQRT_PI_F * sF);
-    /* Global (Xu Eq. 27): per mode, g(theta_i) M_t((theta_i + theta_o)/2) = a Gaussian in theta_i
-     * centred at 2 alpha_t - theta_o of width 2 beta_t. */
-    float mg = 0.0f;
-    for (int t = 0; t < 3; t++) {
-        float m, s;
-        float k =
-            sl_msr_gprod(theta_j, sF, 2.0f * fp->alpha[t] - theta_o, 2.0f * fp->beta[t], &m, &s);
-        float pref = k * gnorm / (SL_SQRT_PI_F * fp->beta[t]) * SL_SQRT_PI_F * s;
+    float mg = 0.0f, td[6], wq[6];
+    for (int t = 0; t < 3; t++) { /* Xu Eq. 27 */
+        float pref = sl_msr_global_nodes(fp, t, theta_o, theta_j, sF, td, wq);
         if (!(pref > 0.0f)) continue;
         float acc = 0.0f;
-        for (int q = 0; q < 6; q++) {
-            float ti = m + s * ((q & 1) ? -sl_msr_ghx[q >> 1] : sl_msr_ghx[q >> 1]);
-            if (!(fabs(ti) < SL_DUAL_HALF_PI)) continue;
-            float td = 0.5f * (theta_o - ti), ctd = cos(td), cti = cos(ti);
-            acc += sl_msr_ghw[q >> 1] * cti * cti / (ctd * ctd) * sl_msr_NG(ng, t, td, D);
-        }
+        for (int q = 0; q < 6; q++)
+            if (wq[q] > 0.0f) acc += wq[q] * sl_msr_NG(ng, t, td[q], D);
         mg += pref * acc;
     }
     *MG = mg / ctj;
-    /* Local (Xu Eq. 29-31). */
-    float a = 0.5f * (theta_j - sF - theta_o), b = 0.5f * (theta_j + sF - theta_o);
-    float dB = sl_dual_mean(tab, SL_DUAL_DELTA_B, a, b);
-    float sB = sl_maxf(sl_dual_mean(tab, SL_DUAL_SIGMA_B, a, b), 1e-4f);
-    float m, s;
-    float k = sl_msr_gprod(theta_j, sF, dB - theta_o, sB, &m, &s);
-    float pref = k * gnorm / (SL_SQRT_PI_F * sB) * SL_SQRT_PI_F * s;
-    float acc = 0.0f;
-    for (int q = 0; q < 6 && pref > 0.0f; q++) {
-        float ti = m + s * ((q & 1) ? -sl_msr_ghx[q >> 1] : sl_msr_ghx[q >> 1]);
-        if (!(fabs(ti) < SL_DUAL_HALF_PI)) continue;
-        float td = 0.5f * (theta_o - ti), ctd = cos(td), cti = cos(ti);
-        acc += sl_msr_ghw[q >> 1] * cti * cti / (ctd * ctd) * sl_dual_lookup(tab, SL_DUAL_A_B, td);
-    }
-    *ML = 2.0f / ctj * (SL_PI_F - fabs(D)) / (SL_PI_F * SL_PI_F) * pref * acc;
+    float pl, acc = sl_msr_local_core(tab, theta_o, theta_j, sF, &pl); /* Xu Eq. 29-31 */
+    *ML = pl > 0.0f ? 2.0f / ctj * (SL_PI_F - fabs(D)) / (SL_PI_F * SL_PI_F) * pl * acc : 0.0f;
 }
 
 #endif

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # bench_volume.sh [BUILD_DIR]: issue 8's `make bench` figures (docs/volume.md, "Timing"): the
-# voxelization, the shadow-path march and the multiple-scattering response on the C twin and
+# voxelization, the shadow-path march and the multiple-scattering response (read from the
+# per-material response table since session 3: kernels/ms_table.h, docs/volume.md "The
+# response table"; before it, the direct evaluation took 13-15x longer on C) on the C twin and
 # on the OpenCL device (PoCL here, a GPU where there is one), as `strandlight kernels --only
 # NAME --size N` reports them (best of REPS repetitions, kernel time without transfers, and the
 # OpenCL wall time with them), and the OpenCL / C ratio. Sizes: procedural wavy strands for

@@ -1,0 +1,131 @@
+/* ms_table.h: the per-material table of the multiple-scattering response (kernels/ms_response.h,
+ * Xu 2011 Eq. 27-31) and its lookup, float, shared by C (host/volume_ms.c builds it and looks it
+ * up per fragment and lobe) and OpenCL (kernels/ms.cl), so both agree to float rounding. The
+ * idea is Ren 2010's precomputed single-scattering table (kernels/srbf_ren_lookup.h); layout,
+ * size and error: docs/volume.md, "The response table".
+ *
+ * What the response depends on (per channel): theta_o, theta_j, s_F = sqrt(lambda^2 + sigma_f^2)
+ * (lambda and sigma_f enter only through s_F, Xu Eq. 5) and D = |wrap(phi_o - phi_j)| (N^G is
+ * even in D). Separable, hence not tabulated: 1 / cos theta_j (psi_f's normalisation), the local
+ * term's azimuthal overlap (pi - D) / pi^2 (Xu Eq. 30), and, per mode t of the global term, the
+ * narrow Gaussian of theta_j + theta_o around 2 alpha_t (the SRBF lobe's g times M_t, width
+ * sqrt(s_F^2 + 4 beta_t^2): 0.13 rad for TT, far too narrow for a coarse grid):
+ *   M^G = 1/cos theta_j sum_t G_t A_t(theta_o, theta_j, s_F, D),
+ *   G_t = 2 / (sqrt(pi) w_t) exp(-(theta_j + theta_o - 2 alpha_t)^2 / w_t^2),
+ *   w_t^2 = s_F^2 + 4 beta_t^2,
+ * with A_t the 6-point Gauss-Hermite sum of cos^2 theta_i / cos^2 theta_d N^G_t(theta_d, D)
+ * (smooth: no narrow factor left), and likewise for the local term (Xu Eq. 29-31)
+ *   M^L = 2 / cos theta_j (pi - D) / pi^2 G_b L(theta_o, theta_j, s_F),
+ *   G_b = 1 / (sqrt(pi) w_b) exp(-(theta_j + theta_o - ~Delta_b)^2 / w_b^2),
+ *   w_b^2 = s_F^2 + ~sigma_b^2,
+ * with ~Delta_b, ~sigma_b (Xu Eq. 31: means over theta_d in (theta_j - theta_o +- s_F) / 2)
+ * functions of u = theta_j - theta_o and s_F only: a second, 2-D table; L is the Gauss-Hermite
+ * sum of A_b(theta_d) cos^2 theta_i / cos^2 theta_d.
+ *
+ * Axes: theta_o and theta_j uniform on [-pi/2, pi/2]; s_F by x = s_F / (s_F + S0) uniform on
+ * [0, x(SMAX)] (dense for narrow lobes, where A_t and L change fastest; s_F > SMAX is clamped
+ * in the table coordinate only, the analytic factors use the true s_F); D uniform on [0, pi] on
+ * every (SL_MSR_ND - 1) / (SL_MST_ND - 1)-th node of the N^G table, where the global term is
+ * linear in the N^G values (so its D interpolation adds no error beyond N^G's own at those
+ * nodes); u uniform on [-pi, pi].
+ * Layout per channel: node (o, j, s) holds SL_MST_STRIDE floats: A_R[D], A_TT[D], A_TRT[D]
+ * (SL_MST_ND each), then L; nodes in the order [o][j][s]. Then the 2-D table, [u][s] pairs
+ * (~Delta_b, ~sigma_b). Quadrilinear (and bilinear) interpolation. */
+#ifndef SL_MS_TABLE_H
+#define SL_MS_TABLE_H
+
+#include "ms_response.h"
+
+#define SL_MST_NO 33     /* theta_o nodes */
+#define SL_MST_NJ 33     /* theta_j nodes */
+#define SL_MST_NS 16     /* s_F nodes */
+#define SL_MST_ND 33     /* D nodes: every (SL_MSR_ND - 1) / (SL_MST_ND - 1)-th N^G node */
+#define SL_MST_S0 0.25f  /* s_F axis: x = s_F / (s_F + S0) */
+#define SL_MST_SMAX 4.0f /* s_F beyond: clamped in the table coordinate */
+#define SL_MST_NU 65     /* u = theta_j - theta_o nodes of the (~Delta_b, ~sigma_b) table */
+#define SL_MST_NSB 61    /* its s_F nodes (same x axis; every 4th is a main node) */
+#define SL_MST_STRIDE (3 * SL_MST_ND + 1)
+#define SL_MST_MAIN (SL_MST_NO * SL_MST_NJ * SL_MST_NS * SL_MST_STRIDE)
+#define SL_MST_FLOATS (SL_MST_MAIN + SL_MST_NU * SL_MST_NSB * 2)
+
+/* s_F of node s of n (the inverse of x = s_F / (s_F + S0) on the uniform x nodes). */
+SL_INLINE float sl_mst_node_s(int s, int n) {
+    float xmax = SL_MST_SMAX / (SL_MST_SMAX + SL_MST_S0);
+    float x = xmax * (float)s / (float)(n - 1);
+    return SL_MST_S0 * x / (1.0f - x);
+}
+
+/* theta of node i of an axis of n uniform nodes on [-pi/2, pi/2]. */
+SL_INLINE float sl_mst_node_theta(int i, int n) {
+    return -SL_DUAL_HALF_PI + SL_PI_F * (float)i / (float)(n - 1);
+}
+
+/* Cell index and fraction of coordinate f (in node units) clamped to [0, n - 1]; NaN -> 0, so a
+ * bad input never indexes outside the table. */
+SL_INLINE int sl_mst_cell(float f, int n, float *frac) {
+    f = f >= 0.0f ? f : 0.0f;
+    f = f <= (float)(n - 1) ? f : (float)(n - 1);
+    int i = (int)f;
+    i = i > n - 2 ? n - 2 : i;
+    *frac = f - (float)i;
+    return i;
+}
+
+/* M^G and M^L of one channel from its table mt (SL_MST_FLOATS; __global in OpenCL): the same
+ * arguments and meaning as sl_ms_response_1 (kernels/ms_response.h), which is the reference. */
+SL_INLINE void sl_ms_table_1(const sl_fiber_params *fp, SL_GLOBAL const float *mt, float theta_o,
+                             float phi_o, float theta_j, float phi_j, float lambda, float sigma_f,
+                             float *MG, float *ML) {
+    float s2 = lambda * lambda + sigma_f * sigma_f, sF = sqrt(s2);
+    float ctj = cos(theta_j), D = sl_minf(fabs(sl_wrap_pi(phi_o - phi_j)), SL_PI_F);
+    *MG = 0.0f;
+    *ML = 0.0f;
+    if (!(ctj > 1e-4f) || !(sF > 0.0f)) return;
+    /* Separable Gaussians of the global term, per mode (the top of the file). */
+    float G[3];
+    for (int t = 0; t < 3; t++) {
+        float w2 = s2 + 4.0f * fp->beta[t] * fp->beta[t],
+              d = theta_j + theta_o - 2.0f * fp->alpha[t];
+        G[t] = 2.0f / (SL_SQRT_PI_F * sqrt(w2)) * exp(-d * d / w2);
+    }
+    float fo, fj, fs, fd, fu, fb;
+    int io = sl_mst_cell((theta_o + SL_DUAL_HALF_PI) * ((float)(SL_MST_NO - 1) / SL_PI_F),
+                         SL_MST_NO, &fo);
+    int ij = sl_mst_cell((theta_j + SL_DUAL_HALF_PI) * ((float)(SL_MST_NJ - 1) / SL_PI_F),
+                         SL_MST_NJ, &fj);
+    float xmax = SL_MST_SMAX / (SL_MST_SMAX + SL_MST_S0);
+    float xs = sF / (sF + SL_MST_S0) / xmax;
+    int is = sl_mst_cell(xs * (float)(SL_MST_NS - 1), SL_MST_NS, &fs);
+    int id = sl_mst_cell(D * ((float)(SL_MST_ND - 1) / SL_PI_F), SL_MST_ND, &fd);
+    int iu =
+        sl_mst_cell((theta_j - theta_o + SL_PI_F) * ((float)(SL_MST_NU - 1) / (2.0f * SL_PI_F)),
+                    SL_MST_NU, &fu);
+    /* The local term's Gaussian from the 2-D table (bilinear in u, s). */
+    int ib = sl_mst_cell(xs * (float)(SL_MST_NSB - 1), SL_MST_NSB, &fb);
+    SL_GLOBAL const float *b0 = mt + SL_MST_MAIN + (size_t)(iu * SL_MST_NSB + ib) * 2;
+    SL_GLOBAL const float *b1 = b0 + SL_MST_NSB * 2;
+    float dB =
+        (1.0f - fu) * ((1.0f - fb) * b0[0] + fb * b0[2]) + fu * ((1.0f - fb) * b1[0] + fb * b1[2]);
+    float sB =
+        (1.0f - fu) * ((1.0f - fb) * b0[1] + fb * b0[3]) + fu * ((1.0f - fb) * b1[1] + fb * b1[3]);
+    float wb2 = s2 + sB * sB, db = theta_j + theta_o - dB;
+    float Gb = exp(-db * db / wb2) / (SL_SQRT_PI_F * sqrt(wb2));
+    float mg = 0.0f, ml = 0.0f;
+    for (int c = 0; c < 8; c++) {
+        int a = c & 1, b = (c >> 1) & 1, e = c >> 2;
+        float w = (a ? fo : 1.0f - fo) * (b ? fj : 1.0f - fj) * (e ? fs : 1.0f - fs);
+        SL_GLOBAL const float *v =
+            mt + ((size_t)((io + a) * SL_MST_NJ + ij + b) * SL_MST_NS + is + e) * SL_MST_STRIDE;
+        float g = 0.0f;
+        for (int t = 0; t < 3; t++) {
+            SL_GLOBAL const float *r = v + t * SL_MST_ND + id;
+            g += G[t] * (r[0] + fd * (r[1] - r[0]));
+        }
+        mg += w * g;
+        ml += w * v[3 * SL_MST_ND];
+    }
+    *MG = mg / ctj;
+    *ML = 2.0f / ctj * (SL_PI_F - D) / (SL_PI_F * SL_PI_F) * Gb * ml;
+}
+
+#endif
