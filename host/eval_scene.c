@@ -2,7 +2,9 @@
 #include "eval_scene.h"
 
 #include "env_lighting.h"
+#include "scene_hair.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 int sl_eval_scene_lobes(const sl_scene *s, size_t n, const double *rows, const long *line_no,
@@ -16,6 +18,26 @@ int sl_eval_scene_lobes(const sl_scene *s, size_t n, const double *rows, const l
                 line_no ? line_no[i] : (long)i + 2, rows[4 * i + 3], lobes->count,
                 lobes->count - 1);
     return 0;
+}
+
+int sl_eval_scene_load(const char *path, sl_eval_scene_check check, size_t n, const double *rows,
+                       const long *line_no, sl_eval_scene_data *d, sl_err *e) {
+    memset(d, 0, sizeof *d);
+    d->scene = sl_malloc(sizeof *d->scene);
+    if (sl_scene_load(path, d->scene, e) || (check && check(d->scene, path, e)) ||
+        sl_eval_scene_lobes(d->scene, n, rows, line_no, &d->lobes, e) ||
+        sl_scene_load_hair(d->scene, &d->hair, e)) {
+        sl_eval_scene_free(d);
+        return -1;
+    }
+    return 0;
+}
+
+void sl_eval_scene_free(sl_eval_scene_data *d) {
+    sl_lobes_free(&d->lobes);
+    sl_hair_free(&d->hair);
+    free(d->scene);
+    memset(d, 0, sizeof *d);
 }
 
 int sl_eval_scene_device(sl_eval_backend b, sl_cl *cl, sl_device *dev, sl_err *e) {

@@ -39,20 +39,18 @@ static int get_kernels(sl_cl *cl, sl_ps_variant v, ps_kernels *k, sl_err *e) {
     return sl_cl_get_kernel(cl, PS_FILE, "sl_scan_col_add_offsets", NULL, &k->col_add, e);
 }
 
-static int enqueue(sl_cl *cl, cl_kernel k, const char *name, const size_t global[2],
-                   const size_t *local, sl_cl_timer *timer, sl_err *e) {
+/* Sets k's n arguments (sizes[i] bytes at vals[i]) and enqueues it over the 2-D range global in
+ * work groups of local; with a timer, its event goes there. Errors name the kernel. */
+static int launch(sl_cl *cl, cl_kernel k, const char *name, int n, const size_t *sizes,
+                  const void *const *vals, const size_t global[2], const size_t local[2],
+                  sl_cl_timer *timer, sl_err *e) {
+    for (int i = 0; i < n; i++)
+        if (sl_cl_check(clSetKernelArg(k, (cl_uint)i, sizes[i], vals[i]), name, e)) return -1;
     cl_event ev = NULL;
     cl_int err = clEnqueueNDRangeKernel(sl_cl_queue(cl), k, 2, NULL, global, local, 0, NULL,
                                         timer ? &ev : NULL);
     if (sl_cl_check(err, name, e)) return -1;
     if (timer) sl_cl_timer_add(timer, ev);
-    return 0;
-}
-
-static int set_args(cl_kernel k, const char *name, sl_err *e, int n, const size_t *sizes,
-                    const void *const *vals) {
-    for (int i = 0; i < n; i++)
-        if (sl_cl_check(clSetKernelArg(k, (cl_uint)i, sizes[i], vals[i]), name, e)) return -1;
     return 0;
 }
 
@@ -88,9 +86,8 @@ static int scan_rows(sl_cl *cl, const ps_kernels *k, cl_mem in, cl_mem out, cl_u
                      local_serial[2] = {1, PS_LOCAL};
         cl_kernel kt = serial ? k->tiles_serial : k->tiles;
         const char *name = serial ? "sl_scan_tiles_serial" : "sl_scan_tiles";
-        if (set_args(kt, name, e, serial ? 6 : 5, sz, v) ||
-            enqueue(cl, kt, name, serial ? global_serial : global_wg,
-                    serial ? local_serial : local_wg, timer, e))
+        if (launch(cl, kt, name, serial ? 6 : 5, sz, v, serial ? global_serial : global_wg,
+                   serial ? local_serial : local_wg, timer, e))
             goto done;
     }
     if (nt > 1) {
@@ -99,9 +96,7 @@ static int scan_rows(sl_cl *cl, const ps_kernels *k, cl_mem in, cl_mem out, cl_u
         const size_t sz[4] = {sizeof out, sizeof scanned, sizeof w, sizeof nt};
         const void *v[4] = {&out, &scanned, &w, &nt};
         const size_t global[2] = {sl_cl_round_up(w, PS_LOCAL), h}, local[2] = {PS_LOCAL, 1};
-        if (set_args(k->add, "sl_scan_add_offsets", e, 4, sz, v) ||
-            enqueue(cl, k->add, "sl_scan_add_offsets", global, local, timer, e))
-            goto done;
+        if (launch(cl, k->add, "sl_scan_add_offsets", 4, sz, v, global, local, timer, e)) goto done;
     }
     rc = 0;
 done:
@@ -123,8 +118,7 @@ static int scan_cols(sl_cl *cl, const ps_kernels *k, cl_mem in, cl_mem out, cl_u
         const size_t sz[5] = {sizeof in, sizeof out, sizeof sums, sizeof w, sizeof h};
         const void *v[5] = {&in, &out, &sums, &w, &h};
         const size_t global[2] = {sl_cl_round_up(w, PS_LOCAL), nt}, local[2] = {PS_LOCAL, 1};
-        if (set_args(k->col_tiles, "sl_scan_col_tiles_serial", e, 5, sz, v) ||
-            enqueue(cl, k->col_tiles, "sl_scan_col_tiles_serial", global, local, timer, e))
+        if (launch(cl, k->col_tiles, "sl_scan_col_tiles_serial", 5, sz, v, global, local, timer, e))
             goto done;
     }
     if (nt > 1) {
@@ -133,8 +127,7 @@ static int scan_cols(sl_cl *cl, const ps_kernels *k, cl_mem in, cl_mem out, cl_u
         const size_t sz[3] = {sizeof out, sizeof scanned, sizeof w};
         const void *v[3] = {&out, &scanned, &w};
         const size_t global[2] = {sl_cl_round_up(w, PS_LOCAL), h}, local[2] = {PS_LOCAL, 1};
-        if (set_args(k->col_add, "sl_scan_col_add_offsets", e, 3, sz, v) ||
-            enqueue(cl, k->col_add, "sl_scan_col_add_offsets", global, local, timer, e))
+        if (launch(cl, k->col_add, "sl_scan_col_add_offsets", 3, sz, v, global, local, timer, e))
             goto done;
     }
     rc = 0;
@@ -148,10 +141,10 @@ static int transpose(sl_cl *cl, const ps_kernels *k, cl_mem in, cl_mem out, cl_u
                      sl_cl_timer *timer, sl_err *e) {
     const size_t sz[4] = {sizeof in, sizeof out, sizeof w, sizeof h};
     const void *v[4] = {&in, &out, &w, &h};
-    const size_t global[2] = {sl_cl_round_up(w, SL_TRANSPOSE_TILE), sl_cl_round_up(h, SL_TRANSPOSE_TILE)};
+    const size_t global[2] = {sl_cl_round_up(w, SL_TRANSPOSE_TILE),
+                              sl_cl_round_up(h, SL_TRANSPOSE_TILE)};
     const size_t local[2] = {SL_TRANSPOSE_TILE, SL_TRANSPOSE_TILE};
-    if (set_args(k->transpose, "sl_transpose", e, 4, sz, v)) return -1;
-    return enqueue(cl, k->transpose, "sl_transpose", global, local, timer, e);
+    return launch(cl, k->transpose, "sl_transpose", 4, sz, v, global, local, timer, e);
 }
 
 static int check_size(sl_cl *cl, const ps_kernels *k, size_t w, size_t h, sl_err *e) {

@@ -20,36 +20,58 @@ void slcl_srbf_options(const sl_fiber_params *fp, int method, int segments, char
         snprintf(buf, size, "-DSL_SRBF_SPEC_METHOD=0 -DSL_SRBF_SPEC_SEGMENTS=%d", segments);
 }
 
-/* The read-only copies of the C and H tables both kernels take, created only while *err is
- * CL_SUCCESS (the caller's chain of clCreateBuffer calls). */
-static void srbf_table_buffers(cl_context ctx, const sl_srbf_tables *t, cl_mem *c, cl_mem *h,
-                               cl_int *err) {
-    if (*err == CL_SUCCESS)
-        *c = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                            SL_SRBF_C_FLOATS * sizeof(float), t->C, err);
-    if (*err == CL_SUCCESS)
-        *h = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                            SL_SRBF_H_FLOATS * sizeof(float), t->H, err);
+/* The job's buffers ('b' in args), in order; stops at the first failure (the rest stay NULL). */
+static int srbf_buffers(sl_cl *cl, const slcl_srbf_job *j, cl_mem *buf, int *nbuf, sl_err *e) {
+    cl_context ctx = sl_cl_context(cl);
+    cl_int err = CL_SUCCESS;
+    *nbuf = 0;
+    for (const char *c = j->args; *c && err == CL_SUCCESS; c++) {
+        if (*c != 'b') continue;
+        if (*nbuf == SLCL_SRBF_MAX_BUF) return sl_fail(e, "%s: too many buffers", j->kernel);
+        int a = (*nbuf)++;
+        buf[a] = clCreateBuffer(
+            ctx, j->src[a] ? CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR : CL_MEM_WRITE_ONLY,
+            j->size[a] * sizeof(float), (void *)j->src[a], &err);
+    }
+    return sl_cl_check(err, "clCreateBuffer", e);
 }
 
-/* Unless rc is already an error: launch k over n rows (work groups of 64, or the device's
- * maximum) and read out_floats floats of buffer `res` back into out; then release the nbuf
- * buffers whatever happened. Returns the first error. */
-static int srbf_run(sl_cl *cl, cl_kernel k, const char *name, size_t n, cl_mem res,
-                    size_t out_floats, float *out, cl_mem *buf, int nbuf, int rc, sl_err *e) {
+/* Arguments 0 and 1 (fp, the row count), then those args spells. */
+static int srbf_args(cl_kernel k, const sl_fiber_params *fp, const slcl_srbf_job *j,
+                     const cl_mem *buf, sl_err *e) {
+    cl_uint nn = (cl_uint)j->n, a = 2;
+    cl_int err = clSetKernelArg(k, 0, sizeof *fp, fp);
+    if (err == CL_SUCCESS) err = clSetKernelArg(k, 1, sizeof nn, &nn);
+    for (int c = 0, nb = 0, ni = 0; j->args[c] && err == CL_SUCCESS; c++, a++)
+        err = j->args[c] == 'b' ? clSetKernelArg(k, a, sizeof(cl_mem), &buf[nb++])
+                                : clSetKernelArg(k, a, sizeof(cl_int), &j->ints[ni++]);
+    return sl_cl_check(err, "clSetKernelArg", e);
+}
+
+int slcl_srbf_launch(sl_cl *cl, const sl_fiber_params *fp, const slcl_srbf_job *j, float *out,
+                     sl_err *e) {
+    if (j->n == 0) return 0;
+    if (j->n > 0xffffffffu) return sl_fail(e, "%s: too many rows (%zu)", j->kernel, j->n);
+    cl_kernel k;
+    int rc = sl_cl_get_kernel(cl, j->file, j->kernel, j->options, &k, e);
+    if (rc) return rc;
+    cl_mem buf[SLCL_SRBF_MAX_BUF] = {NULL};
+    int nbuf;
     cl_command_queue q = sl_cl_queue(cl);
+    rc = srbf_buffers(cl, j, buf, &nbuf, e);
+    if (!rc) rc = srbf_args(k, fp, j, buf, e);
     if (!rc) {
         size_t local = 64, global;
         size_t maxwg = sl_cl_max_work_group_size(cl);
         if (maxwg && local > maxwg) local = maxwg;
-        global = (n + local - 1) / local * local;
+        global = (j->n + local - 1) / local * local;
         rc = sl_cl_check(clEnqueueNDRangeKernel(q, k, 1, NULL, &global, &local, 0, NULL, NULL),
-                         name, e);
+                         j->kernel, e);
     }
     if (!rc)
-        rc = sl_cl_check(
-            clEnqueueReadBuffer(q, res, CL_TRUE, 0, out_floats * sizeof(float), out, 0, NULL, NULL),
-            "clEnqueueReadBuffer", e);
+        rc = sl_cl_check(clEnqueueReadBuffer(q, buf[j->res], CL_TRUE, 0,
+                                             j->size[j->res] * sizeof(float), out, 0, NULL, NULL),
+                         "clEnqueueReadBuffer", e);
     for (int a = 0; a < nbuf; a++)
         if (buf[a]) clReleaseMemObject(buf[a]);
     return rc;
@@ -57,77 +79,30 @@ static int srbf_run(sl_cl *cl, cl_kernel k, const char *name, size_t n, cl_mem r
 
 int slcl_srbf_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *t, int method,
                     int segments, size_t n, const float *in, float *out, sl_err *e) {
-    if (n == 0) return 0;
-    if (n > 0xffffffffu) return sl_fail(e, "sl_srbf_eval: too many rows (%zu)", n);
-    cl_kernel k;
     char opts[160];
     slcl_srbf_options(fp, method, segments, opts, sizeof opts);
-    int rc = sl_cl_get_kernel(cl, "srbf_eval.cl", "sl_srbf_eval", opts, &k, e);
-    if (rc) return rc;
-    cl_context ctx = sl_cl_context(cl);
-    cl_int err;
-    cl_mem buf[4] = {NULL, NULL, NULL, NULL};
-    buf[0] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * 5 * sizeof(float),
-                            (void *)in, &err);
-    if (err == CL_SUCCESS)
-        buf[1] = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, n * 4 * sizeof(float), NULL, &err);
-    srbf_table_buffers(ctx, t, &buf[2], &buf[3], &err);
-    rc = sl_cl_check(err, "clCreateBuffer", e);
-    cl_uint nn = (cl_uint)n;
-    cl_int meth = method, seg = segments;
-    if (!rc) {
-        err = clSetKernelArg(k, 0, sizeof *fp, fp);
-        if (err == CL_SUCCESS) err = clSetKernelArg(k, 1, sizeof nn, &nn);
-        for (cl_uint a = 0; a < 4 && err == CL_SUCCESS; a++)
-            err = clSetKernelArg(k, 2 + a, sizeof(cl_mem), &buf[a]);
-        if (err == CL_SUCCESS) err = clSetKernelArg(k, 6, sizeof meth, &meth);
-        if (err == CL_SUCCESS) err = clSetKernelArg(k, 7, sizeof seg, &seg);
-        rc = sl_cl_check(err, "clSetKernelArg", e);
-    }
-    return srbf_run(cl, k, "sl_srbf_eval", n, buf[1], n * 4, out, buf, 4, rc, e);
+    /* sl_srbf_eval(fp, n, in, out, C, H, method, segments) */
+    const size_t size[] = {n * 5, n * 4, SL_SRBF_C_FLOATS, SL_SRBF_H_FLOATS};
+    const float *src[] = {in, NULL, t->C, t->H};
+    const cl_int ints[] = {method, segments};
+    const slcl_srbf_job j = {"srbf_eval.cl", "sl_srbf_eval", opts, n, "bbbbii", ints, 1, size, src};
+    return slcl_srbf_launch(cl, fp, &j, out, e);
 }
 
 int slcl_srbf_rgb_batch_ex(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *t,
                            int method, int segments, size_t n, const float *in,
                            const float *sigma_a, float *out, int generic, sl_err *e) {
-    if (n == 0) return 0;
-    if (n > 0xffffffffu) return sl_fail(e, "sl_srbf_eval_rgb: too many rows (%zu)", n);
-    cl_kernel k;
     char opts[160] = "";
     if (!generic) slcl_srbf_options(fp, method, segments, opts, sizeof opts);
-    int rc = sl_cl_get_kernel(cl, "srbf_eval.cl", "sl_srbf_eval_rgb", opts, &k, e);
-    if (rc) return rc;
-    cl_context ctx = sl_cl_context(cl);
-    cl_int err;
-    /* in, sigma (a 3-float dummy when NULL: a kernel argument may not be a NULL buffer on every
-     * platform), out, C, H */
-    cl_mem buf[5] = {NULL, NULL, NULL, NULL, NULL};
+    /* sl_srbf_eval_rgb(fp, n, in, sigma, has_sigma, out, C, H, method, segments); sigma is a
+     * 3-float dummy when NULL (a kernel argument may not be a NULL buffer on every platform) */
     float dummy[3] = {0, 0, 0};
-    buf[0] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * 5 * sizeof(float),
-                            (void *)in, &err);
-    if (err == CL_SUCCESS)
-        buf[1] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                (sigma_a ? n * 3 : 3) * sizeof(float),
-                                sigma_a ? (void *)sigma_a : (void *)dummy, &err);
-    if (err == CL_SUCCESS)
-        buf[2] = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, n * 9 * sizeof(float), NULL, &err);
-    srbf_table_buffers(ctx, t, &buf[3], &buf[4], &err);
-    rc = sl_cl_check(err, "clCreateBuffer", e);
-    cl_uint nn = (cl_uint)n;
-    cl_int has = sigma_a != NULL, meth = method, seg = segments;
-    if (!rc) {
-        err = clSetKernelArg(k, 0, sizeof *fp, fp);
-        if (err == CL_SUCCESS) err = clSetKernelArg(k, 1, sizeof nn, &nn);
-        if (err == CL_SUCCESS) err = clSetKernelArg(k, 2, sizeof(cl_mem), &buf[0]);
-        if (err == CL_SUCCESS) err = clSetKernelArg(k, 3, sizeof(cl_mem), &buf[1]);
-        if (err == CL_SUCCESS) err = clSetKernelArg(k, 4, sizeof has, &has);
-        for (cl_uint a = 0; a < 3 && err == CL_SUCCESS; a++)
-            err = clSetKernelArg(k, 5 + a, sizeof(cl_mem), &buf[2 + a]);
-        if (err == CL_SUCCESS) err = clSetKernelArg(k, 8, sizeof meth, &meth);
-        if (err == CL_SUCCESS) err = clSetKernelArg(k, 9, sizeof seg, &seg);
-        rc = sl_cl_check(err, "clSetKernelArg", e);
-    }
-    return srbf_run(cl, k, "sl_srbf_eval_rgb", n, buf[2], n * 9, out, buf, 5, rc, e);
+    const size_t size[] = {n * 5, sigma_a ? n * 3 : 3, n * 9, SL_SRBF_C_FLOATS, SL_SRBF_H_FLOATS};
+    const float *src[] = {in, sigma_a ? sigma_a : dummy, NULL, t->C, t->H};
+    const cl_int ints[] = {sigma_a != NULL, method, segments};
+    const slcl_srbf_job j = {
+        "srbf_eval.cl", "sl_srbf_eval_rgb", opts, n, "bbibbbii", ints, 2, size, src};
+    return slcl_srbf_launch(cl, fp, &j, out, e);
 }
 
 int slcl_srbf_rgb_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *t, int method,
@@ -153,14 +128,8 @@ int slchk_srbf(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result 
     float *in = sl_malloc(n * 5 * sizeof *in), *a = sl_malloc(n * 8 * sizeof *a),
           *b = sl_malloc(n * 8 * sizeof *b);
     sl_srbf_sample(SL_SRBF_SAMPLE_SEED, (int)n, cfg);
-    for (size_t i = 0; i < n; i++) {
-        float *p = in + 5 * i;
-        p[0] = (float)cfg[i].theta_o;
-        p[1] = (float)cfg[i].phi_o;
-        p[2] = (float)cfg[i].theta_j;
-        p[3] = (float)cfg[i].phi_j;
-        p[4] = (float)cfg[i].lambda;
-    }
+    for (size_t i = 0; i < n; i++)
+        sl_srbf_config_row(cfg + i, in + 5 * i);
     sl_material m;
     sl_material_default(&m);
     sl_fiber_params fp;

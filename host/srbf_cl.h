@@ -30,6 +30,30 @@ int slcl_srbf_rgb_batch_ex(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_t
 /* The -D options of kernels/srbf_eval.cl for fp and method (into buf). */
 void slcl_srbf_options(const sl_fiber_params *fp, int method, int segments, char *buf, size_t size);
 
+/* One batch of an SRBF kernel (kernels/srbf_eval.cl, kernels/srbf_deon_eval.cl). Every such
+ * kernel takes (const sl_fiber_params, const uint rows) first, then the arguments `args` spells,
+ * one letter each: 'b' the next float buffer (in the order of size/src), 'i' the next of ints (a
+ * const int). A buffer with src[a] is a read-only copy of its size[a] floats; with NULL it is
+ * written by the kernel (write-only). At most SLCL_SRBF_MAX_BUF buffers. */
+enum { SLCL_SRBF_MAX_BUF = 8 };
+typedef struct slcl_srbf_job {
+    const char *file, *kernel, *options; /* sl_cl_get_kernel's; kernel also names errors */
+    size_t n;                            /* rows: one work-item each */
+    const char *args;
+    const cl_int *ints;
+    int res; /* the buffer read back into out: size[res] floats */
+    const size_t *size;
+    const float *const *src;
+} slcl_srbf_job;
+
+/* The one OpenCL launch path of the SRBF batch drivers (this file's and host/srbf_deon_cl.c's):
+ * n == 0 does nothing; n > 2^32 - 1 fails naming the kernel. Otherwise gets the kernel (built or
+ * cached), creates the buffers, sets the arguments, launches one work-item per row (work groups
+ * of 64, or the device's maximum when smaller), reads buffer res back into out (blocking) and
+ * releases the buffers whatever happened. Returns 0, -1 (e set) or SL_CL_EKERNEL. */
+int slcl_srbf_launch(sl_cl *cl, const sl_fiber_params *fp, const slcl_srbf_job *j, float *out,
+                     sl_err *e);
+
 /* The kernel check of `strandlight kernels` (host/kernel_checks.c): srbf_eval.cl vs the C twin
  * (o->size: number of lobes, default 4096). */
 int slchk_srbf(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);

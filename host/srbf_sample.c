@@ -87,3 +87,11 @@ void sl_srbf_sample(unsigned seed, int n, sl_srbf_config *cfg) {
         }
     }
 }
+
+void sl_srbf_config_row(const sl_srbf_config *c, float row[5]) {
+    row[0] = (float)c->theta_o;
+    row[1] = (float)c->phi_o;
+    row[2] = (float)c->theta_j;
+    row[3] = (float)c->phi_j;
+    row[4] = (float)c->lambda;
+}

@@ -31,4 +31,8 @@ void sl_srbf_sample_material(int i, sl_material *m);
  * prefix for any larger n). Materials cycle 0,1,2,3,4,... so any prefix of 5k rows is balanced. */
 void sl_srbf_sample(unsigned seed, int n, sl_srbf_config *cfg);
 
+/* A configuration as the 5-float input row of the SRBF batches (theta_o, phi_o, theta_j, phi_j,
+ * lambda; host/srbf_cl.h, cpu/srbf_c.h). */
+void sl_srbf_config_row(const sl_srbf_config *c, float row[5]);
+
 #endif

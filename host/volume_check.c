@@ -24,6 +24,25 @@ static int make_hair(const sl_kernel_check_opts *o, sl_hair *h, sl_err *e) {
     return sl_hair_generate(&p, h, e);
 }
 
+/* Keeps the best (smallest) of each time over the repetitions (r's times start at INFINITY):
+ * the C twin's, the kernel's (device time, or the wall time when there is none) and the wall
+ * time of the OpenCL call. */
+static void best_times(sl_kernel_check_result *r, double tc, double tk, double tw) {
+    if (tc < r->c_s) r->c_s = tc;
+    if (tk < r->cl_s) r->cl_s = tk;
+    if (tw < r->cl_wall_s) r->cl_wall_s = tw;
+}
+
+/* Sets the tolerance and why it is what it is, then compares the n kernel outputs a against the
+ * C twin's b. */
+static void compare_within(sl_kernel_check_result *r, double tol_abs, double tol_rel,
+                           const char *note, const float *a, const float *b, size_t n) {
+    r->tol_abs = tol_abs;
+    r->tol_rel = tol_rel;
+    snprintf(r->note, sizeof r->note, "%s", note);
+    sl_kernel_compare(a, b, n, r);
+}
+
 int slchk_voxel(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e) {
     sl_hair h;
     if (make_hair(o, &h, e)) return -1;
@@ -47,19 +66,15 @@ int slchk_voxel(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result
         t0 = sl_now();
         rc = slcl_voxelize(cl, segs, nseg, g.n, g.lo, g.h, scale, a, &tk, e);
         double tw = sl_now() - t0;
-        if (tc < r->c_s) r->c_s = tc;
-        if (tk < r->cl_s) r->cl_s = tk;
-        if (tw < r->cl_wall_s) r->cl_wall_s = tw;
+        best_times(r, tc, tk, tw);
     }
     r->cl_s_is_device = sl_cl_profiling(cl);
     if (!rc) {
         /* Exact fixed-point sums of float pieces; the device's sqrt/division may move a piece by
          * an ulp, and the finalize's power iteration rounds differently: 1e-5 relative, 1e-5
          * absolute (directions and deviations are O(1)). */
-        r->tol_abs = 1e-5;
-        r->tol_rel = 1e-5;
-        snprintf(r->note, sizeof r->note, "fixed-point sums; float finalize within 1e-5");
-        sl_kernel_compare(a, b, nvox * SL_VOX_FIELDS, r);
+        compare_within(r, 1e-5, 1e-5, "fixed-point sums; float finalize within 1e-5", a, b,
+                       nvox * SL_VOX_FIELDS);
     }
     free(a);
     free(b);
@@ -117,24 +132,20 @@ int slchk_march(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result
         rc = slcl_march(cl, g.vox, g.n, g.lo, g.h, &dt.tab[0][0], verts, ids, nvert, fd, 4,
                         mo.paths, mo.seed, aT, aS, &tk, e);
         double tw = sl_now() - t0;
-        if (tc < r->c_s) r->c_s = tc;
-        if (tk < r->cl_s) r->cl_s = tk;
-        if (tw < r->cl_wall_s) r->cl_wall_s = tw;
+        best_times(r, tc, tk, tw);
     }
     r->cl_s_is_device = sl_cl_profiling(cl);
     if (!rc) {
         /* Same random numbers and float steps; exp/log/asin of the device within a few ulp. An
          * event decision flipped by such an ulp changes one path of 16 (up to ~0.05): the check
          * allows 1e-4 absolute, so a flip shows up as a FAIL to look at. */
-        r->tol_abs = 1e-4;
-        r->tol_rel = 1e-4;
-        snprintf(r->note, sizeof r->note, "same random streams; ulp-level exp/asin: 1e-4");
         float *ka = sl_malloc(2 * nout * sizeof *ka), *kb = sl_malloc(2 * nout * sizeof *kb);
         memcpy(ka, aT, nout * sizeof *ka);
         memcpy(ka + nout, aS, nout * sizeof *ka);
         memcpy(kb, bT, nout * sizeof *kb);
         memcpy(kb + nout, bS, nout * sizeof *kb);
-        sl_kernel_compare(ka, kb, 2 * nout, r);
+        compare_within(r, 1e-4, 1e-4, "same random streams; ulp-level exp/asin: 1e-4", ka, kb,
+                       2 * nout);
         free(ka);
         free(kb);
     }
@@ -188,17 +199,13 @@ int slchk_ms_response(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_
         t0 = sl_now();
         rc = slcl_ms_response_rows(cl, &ms, 0, n, in, a, e);
         double tw = sl_now() - t0;
-        if (tc < r->c_s) r->c_s = tc;
-        if (tw < r->cl_s) r->cl_s = tw;
-        if (tw < r->cl_wall_s) r->cl_wall_s = tw;
+        best_times(r, tc, tw, tw);
     }
     r->cl_s_is_device = 0;
     if (!rc) {
-        r->tol_abs = 1e-7;
-        r->tol_rel = 5e-4;
-        snprintf(r->note, sizeof r->note,
-                 "device asin/exp ulps move table weights; PoCL 9.7e-5 measured: 5e-4");
-        sl_kernel_compare(a, b, 2 * n, r);
+        compare_within(r, 1e-7, 5e-4,
+                       "device asin/exp ulps move table weights; PoCL 9.7e-5 measured: 5e-4", a, b,
+                       2 * n);
     }
     free(in);
     free(a);
@@ -227,16 +234,12 @@ int slchk_dual_table(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_r
         t0 = sl_now();
         rc = slcl_dual_table(cl, &fp, a, e);
         double tw = sl_now() - t0;
-        if (tc < r->c_s) r->c_s = tc;
-        if (tw < r->cl_s) r->cl_s = tw;
-        if (tw < r->cl_wall_s) r->cl_wall_s = tw;
+        best_times(r, tc, tw, tw);
     }
     r->cl_s_is_device = 0;
     if (!rc) {
-        r->tol_abs = 1e-7;
-        r->tol_rel = 2e-5;
-        snprintf(r->note, sizeof r->note, "same float math per node; device ulps");
-        sl_kernel_compare(a, b, SL_DUAL_TABLE_FLOATS, r);
+        compare_within(r, 1e-7, 2e-5, "same float math per node; device ulps", a, b,
+                       SL_DUAL_TABLE_FLOATS);
     }
     free(a);
     free(b);

@@ -1,13 +1,13 @@
 /* volume_eval.c: `eval forward-transmittance`: loads the scene's hair, material and SRBF lobes
- * (as host/shadow_eval.c does for `transmittance`) and evaluates T_f and sigma_f per row: the
- * fiber-exact reference or the volume passes (host/volume.h) on the C twin or OpenCL. */
+ * (sl_eval_scene_load, as host/shadow_eval.c does for `transmittance`) and evaluates T_f and
+ * sigma_f per row: the fiber-exact reference or the volume passes (host/volume.h) on the C twin
+ * or OpenCL. */
 #include "volume_eval.h"
 
 #include "dual.h"
 #include "march_ref.h"
 #include "eval_scene.h"
 #include "scene.h"
-#include "scene_hair.h"
 #include "volume.h"
 
 #include <math.h>
@@ -16,26 +16,25 @@
 
 #define MAX_EVENTS 100000
 
+/* The dual-scattering terms exist for the Marschner model only (host/dual.h). */
+static int needs_marschner(const sl_scene *s, const char *path, sl_err *e) {
+    if (s->material.model == SL_MODEL_MARSCHNER) return 0;
+    return sl_fail(e,
+                   "%s: material.model: forward-transmittance needs the dual-scattering terms, "
+                   "which support model marschner only",
+                   path);
+}
+
 int sl_volume_eval_forward(const char *scene_path, sl_eval_backend b, sl_cl *cl, size_t n,
                            const double *in, const long *line_no, double *out, sl_err *e) {
-    sl_scene *s = sl_malloc(sizeof *s);
-    sl_hair h;
-    sl_lobes lobes;
-    memset(&h, 0, sizeof h);
-    memset(&lobes, 0, sizeof lobes);
-    int rc = -1;
-    if (sl_scene_load(scene_path, s, e)) goto done;
+    sl_eval_scene_data d;
+    if (sl_eval_scene_load(scene_path, needs_marschner, n, in, line_no, &d, e)) return -1;
+    const sl_scene *s = d.scene;
+    const sl_hair *h = &d.hair;
+    const sl_lobes *lobes = &d.lobes;
     const sl_material *m = &s->material;
-    if (m->model != SL_MODEL_MARSCHNER) {
-        sl_fail(e,
-                "%s: material.model: forward-transmittance needs the dual-scattering terms, "
-                "which support model marschner only",
-                scene_path);
-        goto done;
-    }
     int nch = sl_eval_num_channels(SL_EVAL_FORWARD_TRANSMITTANCE, m);
-    if (sl_eval_scene_lobes(s, n, in, line_no, &lobes, e)) goto done;
-    if (sl_scene_load_hair(s, &h, e)) goto done;
+    int rc = -1;
     if (n == 0) {
         rc = 0;
         goto done;
@@ -45,8 +44,8 @@ int sl_volume_eval_forward(const char *scene_path, sl_eval_backend b, sl_cl *cl,
         slref_dual_cache cache[3];
         memset(cache, 0, sizeof cache);
         for (size_t i = 0; i < n; i++) {
-            const double *w = lobes.lobe[(int)in[4 * i + 3]].dir;
-            size_t k = slref_march_events(&h, in + 4 * i, w, theta, MAX_EVENTS);
+            const double *w = lobes->lobe[(int)in[4 * i + 3]].dir;
+            size_t k = slref_march_events(h, in + 4 * i, w, theta, MAX_EVENTS);
             if (k > MAX_EVENTS) k = MAX_EVENTS; /* T_f is 0 to double precision long before */
             for (int c = 0; c < nch; c++) {
                 double *y = out + ((size_t)c * n + i) * 2;
@@ -62,23 +61,23 @@ int sl_volume_eval_forward(const char *scene_path, sl_eval_backend b, sl_cl *cl,
     sl_dual_tables dt;
     if (sl_dual_tables_build(m, &dt, e)) goto done;
     /* March only the lobes the rows ask for. */
-    int *slot = sl_malloc((size_t)lobes.count * sizeof *slot);
-    double *dirs = sl_malloc((size_t)lobes.count * 3 * sizeof *dirs);
+    int *slot = sl_malloc((size_t)lobes->count * sizeof *slot);
+    double *dirs = sl_malloc((size_t)lobes->count * 3 * sizeof *dirs);
     int nl = 0;
-    for (int j = 0; j < lobes.count; j++)
+    for (int j = 0; j < lobes->count; j++)
         slot[j] = -1;
     for (size_t i = 0; i < n; i++) {
         int j = (int)in[4 * i + 3];
         if (slot[j] < 0) {
             slot[j] = nl;
-            memcpy(dirs + 3 * nl++, lobes.lobe[j].dir, 3 * sizeof *dirs);
+            memcpy(dirs + 3 * nl++, lobes->lobe[j].dir, 3 * sizeof *dirs);
         }
     }
     sl_voxel_grid g;
     sl_ftex f;
     sl_march_opts o;
     sl_march_opts_default(&o);
-    if (!sl_voxelize(&dev, &h, s->voxels, &g, e)) {
+    if (!sl_voxelize(&dev, h, s->voxels, &g, e)) {
         if (!sl_march_build(&dev, &g, &dt, nl, dirs, &o, &f, e)) {
             for (size_t i = 0; i < n; i++) {
                 float T[3], sg[3];
@@ -97,8 +96,6 @@ int sl_volume_eval_forward(const char *scene_path, sl_eval_backend b, sl_cl *cl,
     free(slot);
     free(dirs);
 done:
-    sl_lobes_free(&lobes);
-    sl_hair_free(&h);
-    free(s);
+    sl_eval_scene_free(&d);
     return rc;
 }

@@ -167,18 +167,11 @@ SL_INLINE float sl_srbf_fast_NW(SL_GLOBAL const float *Htab, const sl_mq_mode *c
 SL_INLINE float sl_srbf_fast_node(const sl_fiber_params *fp, SL_GLOBAL const float *C,
                                   SL_GLOBAL const float *H, float theta_o, float phi_o, float phi_j,
                                   float cos_tj, float lambda, float ti, int t) {
-    float cti = cos(ti);
-    if (!(cti > 1e-7f)) return 0.0f;
-    float td = 0.5f * (theta_o - ti);
-    float cos_td = cos(td), sin_td = sin(td);
-    if (!(cos_td > 1e-7f)) return 0.0f;
-    float geo = cti * cti / (cos_td * cos_td);
+    float td, cos_td, sin_td, geo;
     sl_srbf_az a;
-    a.phi = sl_wrap_pi(phi_o - phi_j);
-    a.phi_sum = sl_wrap_pi(phi_o + phi_j);
-    float cc = cti * cos_tj;
-    a.lam_p = cc > 0.0f ? lambda / sqrt(cc) : SL_SRBF_LMAX;
-    a.lam_p = sl_clampf(a.lam_p, SL_SRBF_LMIN, SL_SRBF_LMAX);
+    if (!sl_srbf_node_setup(theta_o, phi_o, phi_j, cos_tj, lambda, ti, &td, &cos_td, &sin_td, &geo,
+                            &a))
+        return 0.0f;
     a.z = 2.0f * SL_PI_F * sl_srbf_i0e_fast(2.0f / (a.lam_p * a.lam_p));
     if (t == 0) {
         /* R: Schlick's part exactly by Xu's C_k expansion (a degree-5 polynomial in
@@ -205,16 +198,7 @@ SL_INLINE float sl_srbf_fast_node(const sl_fiber_params *fp, SL_GLOBAL const flo
         if (!sl_mq_mode_setup(&c, fp, 1, fp->eta, cos_td, sin_td)) return 0.0f;
         return geo * a.z * sl_srbf_fast_NW(H, &c, 0, a.lam_p, a.phi);
     }
-    float eta_t = fp->eta;
-    if (fp->eccentricity != 1.0f) {
-        float Ce[7];
-        sl_srbf_C(C, a.lam_p, a.phi_sum, Ce);
-        float mc = 2.0f * Ce[2] / sl_maxf(Ce[0], 1e-30f) - 1.0f;
-        float aa = fp->eccentricity, eta = fp->eta;
-        float e1 = 2.0f * (eta - 1.0f) * aa * aa - eta + 2.0f;
-        float e2 = 2.0f * (eta - 1.0f) / (aa * aa) - eta + 2.0f;
-        eta_t = 0.5f * ((e1 + e2) + mc * (e1 - e2));
-    }
+    float eta_t = sl_srbf_trt_eta(fp, C, &a);
     /* TRT: N_TRT is the root sum convolved with the normalised g^c(w_c) (numerics.md sec. 3);
      * g^c(lambda') * g^c(w_c) / int g^c(w_c) ~ int g^c(lambda') g^c(lambda3) / int g^c(lambda3)
      * with lambda3^2 = lambda'^2 + w_c^2 (variances add; the integral is kept exact). */

@@ -233,23 +233,53 @@ SL_INLINE float sl_srbf_xu_TRT(const sl_srbf_az *a, const sl_fiber_params *fp,
     return E / (SL_SQRT_PI_F * l3p) * sl_srbf_cg_prod(lp, l3p, phi, exact_norm);
 }
 
+/* The start of a quadrature node at theta_i = ti that both methods share (this file's
+ * sl_srbf_xu_node, srbf_fast.h's sl_srbf_fast_node): theta_d = (theta_o - ti) / 2 with its cos
+ * and sin, the factor cos^2 theta_i / cos^2 theta_d, and the lobe's azimuths and lambda' (a->z is
+ * left to the caller: each method has its own i0e). Returns 0 where the node contributes nothing
+ * (cos theta_i or cos theta_d ~ 0). */
+SL_INLINE int sl_srbf_node_setup(float theta_o, float phi_o, float phi_j, float cos_tj,
+                                 float lambda, float ti, float *td, float *cos_td, float *sin_td,
+                                 float *geo, sl_srbf_az *a) {
+    float cti = cos(ti);
+    if (!(cti > 1e-7f)) return 0;
+    *td = 0.5f * (theta_o - ti);
+    *cos_td = cos(*td);
+    *sin_td = sin(*td);
+    if (!(*cos_td > 1e-7f)) return 0;
+    *geo = cti * cti / (*cos_td * *cos_td);
+    a->phi = sl_wrap_pi(phi_o - phi_j);
+    a->phi_sum = sl_wrap_pi(phi_o + phi_j);
+    float cc = cti * cos_tj;
+    /* lambda' = lambda / sqrt(cos ti cos tj), clamped to the table range (Xu Sec. 5) */
+    a->lam_p = cc > 0.0f ? lambda / sqrt(cc) : SL_SRBF_LMAX;
+    a->lam_p = sl_clampf(a->lam_p, SL_SRBF_LMIN, SL_SRBF_LMAX);
+    return 1;
+}
+
+/* The TRT eta' at a node (both methods): fp->eta for a round fiber; for an elliptic one Eq. 26,
+ * cos(2 phi_h) = 2 cos^2((x + phi_j + phi_o)/2) - 1 averaged with C_0, C_2. */
+SL_INLINE float sl_srbf_trt_eta(const sl_fiber_params *fp, SL_GLOBAL const float *C,
+                                const sl_srbf_az *a) {
+    if (fp->eccentricity == 1.0f) return fp->eta;
+    float Ce[7];
+    sl_srbf_C(C, a->lam_p, a->phi_sum, Ce);
+    float mc = 2.0f * Ce[2] / sl_maxf(Ce[0], 1e-30f) - 1.0f;
+    float aa = fp->eccentricity, eta = fp->eta;
+    float e1 = 2.0f * (eta - 1.0f) * aa * aa - eta + 2.0f;
+    float e2 = 2.0f * (eta - 1.0f) / (aa * aa) - eta + 2.0f;
+    return 0.5f * ((e1 + e2) + mc * (e1 - e2));
+}
+
 /* cos^2 theta_i / cos^2 theta_d N'_t at one quadrature node theta_i for mode t. */
 SL_INLINE float sl_srbf_xu_node(const sl_fiber_params *fp, SL_GLOBAL const float *C,
                                 SL_GLOBAL const float *H, float theta_o, float phi_o, float phi_j,
                                 float cos_tj, float lambda, float ti, int t) {
-    float cti = cos(ti);
-    if (!(cti > 1e-7f)) return 0.0f;
-    float td = 0.5f * (theta_o - ti);
-    float cos_td = cos(td), sin_td = sin(td);
-    if (!(cos_td > 1e-7f)) return 0.0f;
-    float geo = cti * cti / (cos_td * cos_td);
+    float td, cos_td, sin_td, geo;
     sl_srbf_az a;
-    a.phi = sl_wrap_pi(phi_o - phi_j);
-    a.phi_sum = sl_wrap_pi(phi_o + phi_j);
-    float cc = cti * cos_tj;
-    /* lambda' = lambda / sqrt(cos ti cos tj), clamped to the table range (Xu Sec. 5) */
-    a.lam_p = cc > 0.0f ? lambda / sqrt(cc) : SL_SRBF_LMAX;
-    a.lam_p = sl_clampf(a.lam_p, SL_SRBF_LMIN, SL_SRBF_LMAX);
+    if (!sl_srbf_node_setup(theta_o, phi_o, phi_j, cos_tj, lambda, ti, &td, &cos_td, &sin_td, &geo,
+                            &a))
+        return 0.0f;
     a.z = 2.0f * SL_PI_F * sl_mq_i0e(2.0f / (a.lam_p * a.lam_p));
     if (t == 0) {
         float Cn[7];
@@ -257,17 +287,7 @@ SL_INLINE float sl_srbf_xu_node(const sl_fiber_params *fp, SL_GLOBAL const float
         return geo * sl_srbf_xu_R(&a, Cn, fp->eta, cos_td);
     }
     if (t == 1) return geo * sl_srbf_xu_TT(&a, fp, H, cos_td, sin_td, td);
-    float eta_t = fp->eta;
-    if (fp->eccentricity != 1.0f) {
-        /* Eq. 26: cos(2 phi_h) = 2 cos^2((x + phi_j + phi_o)/2) - 1 averaged with C_0, C_2 */
-        float Ce[7];
-        sl_srbf_C(C, a.lam_p, a.phi_sum, Ce);
-        float mc = 2.0f * Ce[2] / sl_maxf(Ce[0], 1e-30f) - 1.0f;
-        float aa = fp->eccentricity, eta = fp->eta;
-        float e1 = 2.0f * (eta - 1.0f) * aa * aa - eta + 2.0f;
-        float e2 = 2.0f * (eta - 1.0f) / (aa * aa) - eta + 2.0f;
-        eta_t = 0.5f * ((e1 + e2) + mc * (e1 - e2));
-    }
+    float eta_t = sl_srbf_trt_eta(fp, C, &a);
     return geo * sl_srbf_xu_TRT(&a, fp, H, eta_t, cos_td, sin_td, td, 0);
 }
 

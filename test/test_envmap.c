@@ -262,24 +262,23 @@ TEST(envmap_hdr_bad_headers) {
     bytes *b = malloc(sizeof *b);
     expect_fail((const unsigned char *)"", 0, "empty");
     expect_fail((const unsigned char *)"GIF89a....", 10, "unrecognised magic");
-    b->n = 0;
-    puts_(b, "#?RADIANCE\n\n-Y 2 +X 2\n");
-    expect_fail(b->d, b->n, "FORMAT");
-    b->n = 0;
-    puts_(b, "#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 2 +X 2\n");
-    expect_fail(b->d, b->n, "xyze");
-    b->n = 0;
-    puts_(b, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n+Y 2 +X 2\n0000000000000000");
-    expect_fail(b->d, b->n, "resolution");
-    b->n = 0;
-    puts_(b, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 0 +X 2\n");
-    expect_fail(b->d, b->n, "size");
-    b->n = 0;
-    puts_(b, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 100000 +X 100000\n");
-    expect_fail(b->d, b->n, "implausible");
-    b->n = 0;
-    puts_(b, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4096 +X 8192\n");
-    expect_fail(b->d, b->n, "implausible"); /* 32 Mpixel from a 45-byte file */
+    /* each header and the word its error must name */
+    static const struct {
+        const char *header, *want;
+    } bad[] = {
+        {"#?RADIANCE\n\n-Y 2 +X 2\n", "FORMAT"},
+        {"#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 2 +X 2\n", "xyze"},
+        {"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n+Y 2 +X 2\n0000000000000000", "resolution"},
+        {"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 0 +X 2\n", "size"},
+        {"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 100000 +X 100000\n", "implausible"},
+        /* 32 Mpixel from a 45-byte file */
+        {"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4096 +X 8192\n", "implausible"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        b->n = 0;
+        puts_(b, bad[i].header);
+        expect_fail(b->d, b->n, bad[i].want);
+    }
     /* RLE scanline with the wrong length. */
     make_rle(b, 20, 2);
     bytes *c = malloc(sizeof *c);

@@ -3,6 +3,8 @@
  * fibers where T_f and sigma_f have closed forms (docs/volume.md), and kernel vs C twin. */
 #include "test.h"
 
+#include "march_fixture.h"
+
 #include "dual.h"
 #include "dual_ref.h"
 #include "march.h"
@@ -36,6 +38,33 @@ static float *lattice_slab(size_t *nseg) {
     return s;
 }
 
+/* The lattice slab voxelized on a grid of 16 x 16 x 8 voxels of h = 0.25 from the origin, with
+ * the default material and its dual tables. */
+typedef struct slab_grid {
+    float *segs;
+    sl_voxel_grid g;
+    sl_material m;
+    sl_dual_tables dt;
+} slab_grid;
+
+static void slab_grid_setup(slab_grid *s) {
+    sl_err e = {{0}};
+    size_t ns;
+    s->segs = lattice_slab(&ns);
+    memset(&s->g, 0, sizeof s->g);
+    s->g.n[0] = s->g.n[1] = 16;
+    s->g.n[2] = 8;
+    s->g.h = 0.25f;
+    CHECK(sl_voxelize_segments(NULL, s->segs, ns, &s->g, &e) == 0);
+    sl_material_default(&s->m);
+    CHECK(sl_dual_tables_build(&s->m, &s->dt, &e) == 0);
+}
+
+static void slab_grid_free(slab_grid *s) {
+    sl_voxel_grid_free(&s->g);
+    free(s->segs);
+}
+
 /* The march on the lattice slab lit from +z (perpendicular to the fibers, theta = 0 at every
  * event). Grid 16 x 16 x 8 voxels of h = 0.25 from the origin (slab: voxel rows z < 1), coarse
  * cells of 2 voxels: vertices at z = 0 (depth d = 1) and z = 0.5 (d = 0.5). Steps of delta = h/2
@@ -46,24 +75,14 @@ static float *lattice_slab(size_t *nseg) {
  * the mean of a^K plus the float table's 1e-4. */
 TEST(march_slab_binomial) {
     sl_err e = {{0}};
-    size_t ns;
-    float *segs = lattice_slab(&ns);
-    sl_voxel_grid g;
-    memset(&g, 0, sizeof g);
-    g.n[0] = g.n[1] = 16;
-    g.n[2] = 8;
-    g.h = 0.25f;
-    CHECK(sl_voxelize_segments(NULL, segs, ns, &g, &e) == 0);
-    sl_material m;
-    sl_material_default(&m);
-    sl_dual_tables dt;
-    CHECK(sl_dual_tables_build(&m, &dt, &e) == 0);
+    slab_grid s;
+    slab_grid_setup(&s);
     sl_march_opts o = {2, 512, 5, 1};
     double dir[3] = {0, 0, 1};
     sl_ftex f;
-    CHECK(sl_march_build(NULL, &g, &dt, 1, dir, &o, &f, &e) == 0);
+    CHECK(sl_march_build(NULL, &s.g, &s.dt, 1, dir, &o, &f, &e) == 0);
     double ref[9];
-    slref_dual_terms(&m, 0, 0.0, ref);
+    slref_dual_terms(&s.m, 0, 0.0, ref);
     double a = ref[SLREF_DUAL_AF], b = ref[SLREF_DUAL_BETA_F];
     double P = 1 - exp(-1.6 * 0.125);
     for (int depth = 0; depth < 2; depth++) {
@@ -104,40 +123,28 @@ TEST(march_slab_binomial) {
     CHECK_NEAR(T[0], sqrt((double)f.T[v0 * SL_MARCH_CH] * f.T[v1 * SL_MARCH_CH]), 1e-6);
     CHECK_NEAR(S[0], 0.5 * (f.sigma[v0 * SL_MARCH_CH] + f.sigma[v1 * SL_MARCH_CH]), 1e-6);
     sl_ftex_free(&f);
-    sl_voxel_grid_free(&g);
-    free(segs);
+    slab_grid_free(&s);
 }
 
 /* Deterministic: the same seed gives the same textures; another seed different ones. */
 TEST(march_seeded) {
     sl_err e = {{0}};
-    size_t ns;
-    float *segs = lattice_slab(&ns);
-    sl_voxel_grid g;
-    memset(&g, 0, sizeof g);
-    g.n[0] = g.n[1] = 16;
-    g.n[2] = 8;
-    g.h = 0.25f;
-    CHECK(sl_voxelize_segments(NULL, segs, ns, &g, &e) == 0);
-    sl_material m;
-    sl_material_default(&m);
-    sl_dual_tables dt;
-    CHECK(sl_dual_tables_build(&m, &dt, &e) == 0);
+    slab_grid s;
+    slab_grid_setup(&s);
     double dir[3] = {0.3, 0.2, 0.9327379};
     sl_march_opts o = {4, 4, 1, 1};
     sl_ftex f1, f2, f3;
-    CHECK(sl_march_build(NULL, &g, &dt, 1, dir, &o, &f1, &e) == 0);
-    CHECK(sl_march_build(NULL, &g, &dt, 1, dir, &o, &f2, &e) == 0);
+    CHECK(sl_march_build(NULL, &s.g, &s.dt, 1, dir, &o, &f1, &e) == 0);
+    CHECK(sl_march_build(NULL, &s.g, &s.dt, 1, dir, &o, &f2, &e) == 0);
     o.seed = 2;
-    CHECK(sl_march_build(NULL, &g, &dt, 1, dir, &o, &f3, &e) == 0);
+    CHECK(sl_march_build(NULL, &s.g, &s.dt, 1, dir, &o, &f3, &e) == 0);
     size_t nv = (size_t)f1.m[0] * f1.m[1] * f1.m[2] * SL_MARCH_CH;
     CHECK(memcmp(f1.T, f2.T, nv * sizeof(float)) == 0);
     CHECK(memcmp(f1.T, f3.T, nv * sizeof(float)) != 0);
     sl_ftex_free(&f1);
     sl_ftex_free(&f2);
     sl_ftex_free(&f3);
-    sl_voxel_grid_free(&g);
-    free(segs);
+    slab_grid_free(&s);
 }
 
 /* The reference on a lattice of 6 layers of fibers along x (z = 0.1 k, y = 0.05 i): a ray from
@@ -190,23 +197,13 @@ TEST(march_opencl_vs_c) {
     sl_err e = {{0}};
     sl_device dev;
     if (sl_device_open(test_device(), &dev, &e)) SKIP(e.msg);
-    sl_hair h;
-    sl_hair_procedural p = {SL_PROC_WAVY, 300, 12, 3};
-    CHECK(sl_hair_generate(&p, &h, &e) == 0);
-    sl_voxel_grid g;
-    CHECK(sl_voxelize(NULL, &h, 24, &g, &e) == 0);
-    sl_material m;
-    sl_material_default(&m);
-    double sa[3] = {0.2, 0.5, 1.1};
-    m.sigma_a_rgb = 1;
-    memcpy(m.sigma_a, sa, sizeof sa);
-    sl_dual_tables dt;
-    CHECK(sl_dual_tables_build(&m, &dt, &e) == 0);
-    double dirs[6] = {0, 1, 0, 0.6, -0.48, 0.64};
+    march_wavy w;
+    const double sa[3] = {0.2, 0.5, 1.1};
+    march_wavy_setup(&w, sa);
     sl_march_opts o = {4, 8, 3, 1};
     sl_ftex a, b;
-    CHECK(sl_march_build(&dev, &g, &dt, 2, dirs, &o, &a, &e) == 0);
-    CHECK(sl_march_build(NULL, &g, &dt, 2, dirs, &o, &b, &e) == 0);
+    CHECK(sl_march_build(&dev, &w.g, &w.dt, 2, w.dirs, &o, &a, &e) == 0);
+    CHECK(sl_march_build(NULL, &w.g, &w.dt, 2, w.dirs, &o, &b, &e) == 0);
     CHECK(a.active == b.active && a.active > 0);
     size_t nv = (size_t)a.m[0] * a.m[1] * a.m[2] * SL_MARCH_CH * 2, bad = 0;
     double worst = 0;
@@ -224,7 +221,6 @@ TEST(march_opencl_vs_c) {
     CHECK_MSG(bad * 1000 <= nv, "%zu of %zu values differ by > 1e-4 (worst %g)", bad, nv, worst);
     sl_ftex_free(&a);
     sl_ftex_free(&b);
-    sl_voxel_grid_free(&g);
-    sl_hair_free(&h);
+    march_wavy_free(&w);
     sl_device_close(&dev);
 }

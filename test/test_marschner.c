@@ -329,7 +329,20 @@ static double t_compare(const t_case *c, size_t n, const float *in, const float 
  * w_c = 1 deg; typical 1e-5). */
 #define MQ_FLOAT_TOL 2e-3
 
-TEST(mq_c_vs_reference_extreme_grid) {
+/* One case's outputs (computed by `who`) against the reference: no non-finite value, and the
+ * worst error within the case's tolerance (MQ_FLOAT_TOL unless the case sets one). */
+static void t_check(const t_case *c, size_t n, const float *in, const float *out, const char *who) {
+    int bad = 0;
+    double worst = t_compare(c, n, in, out, &bad);
+    CHECK_MSG(bad == 0, "%s: %d non-finite values", c->name, bad);
+    double tol = c->tol > 0 ? c->tol : MQ_FLOAT_TOL;
+    CHECK_MSG(worst <= tol, "%s: %s vs reference %.3g > %g", c->name, who, worst, tol);
+    if (getenv("MQ_DEBUG")) fprintf(stderr, "%s %s: worst %.3g\n", who, c->name, worst);
+}
+
+/* Every case of the extreme grid through the C batch (cl NULL) or the OpenCL one, each checked
+ * by t_check; an OpenCL error is a FAIL and ends the run. */
+static void t_run_cases(sl_cl *cl) {
     t_case cases[20];
     int nc = t_cases(cases);
     float *in = malloc(9 * 9 * 8 * 3 * 4 * sizeof *in),
@@ -338,16 +351,22 @@ TEST(mq_c_vs_reference_extreme_grid) {
     for (int k = 0; k < nc; k++) {
         sl_fiber_params fp;
         sl_material_to_fiber(&cases[k].m, 0, &fp);
-        slc_scatter_batch(&fp, n, in, out);
-        int bad = 0;
-        double worst = t_compare(&cases[k], n, in, out, &bad);
-        CHECK_MSG(bad == 0, "%s: %d non-finite values", cases[k].name, bad);
-        double tol = cases[k].tol > 0 ? cases[k].tol : MQ_FLOAT_TOL;
-        CHECK_MSG(worst <= tol, "%s: C vs reference %.3g > %g", cases[k].name, worst, tol);
-        if (getenv("MQ_DEBUG")) fprintf(stderr, "C %s: worst %.3g\n", cases[k].name, worst);
+        if (cl) {
+            sl_err e = {{0}};
+            int rc = slcl_scatter_batch(cl, &fp, n, in, out, &e);
+            CHECK_MSG(rc == 0, "slcl_scatter_batch: %s", e.msg);
+            if (rc) break;
+        } else {
+            slc_scatter_batch(&fp, n, in, out);
+        }
+        t_check(&cases[k], n, in, out, cl ? "OpenCL" : "C");
     }
     free(in);
     free(out);
+}
+
+TEST(mq_c_vs_reference_extreme_grid) {
+    t_run_cases(NULL);
 }
 
 TEST(mq_opencl_vs_reference_extreme_grid) {
@@ -356,26 +375,7 @@ TEST(mq_opencl_vs_reference_extreme_grid) {
     memset(&e, 0, sizeof e);
     if (getenv("SL_TEST_NO_OPENCL")) SKIP("SL_TEST_NO_OPENCL set");
     if (sl_device_open("opencl", &dev, &e) != 0) SKIP("no OpenCL device");
-    t_case cases[20];
-    int nc = t_cases(cases);
-    float *in = malloc(9 * 9 * 8 * 3 * 4 * sizeof *in),
-          *out = malloc(9 * 9 * 8 * 3 * 4 * sizeof *out);
-    size_t n = t_grid(in);
-    for (int k = 0; k < nc; k++) {
-        sl_fiber_params fp;
-        sl_material_to_fiber(&cases[k].m, 0, &fp);
-        int rc = slcl_scatter_batch(dev.cl, &fp, n, in, out, &e);
-        CHECK_MSG(rc == 0, "slcl_scatter_batch: %s", e.msg);
-        if (rc) break;
-        int bad = 0;
-        double worst = t_compare(&cases[k], n, in, out, &bad);
-        CHECK_MSG(bad == 0, "%s: %d non-finite values", cases[k].name, bad);
-        double tol = cases[k].tol > 0 ? cases[k].tol : MQ_FLOAT_TOL;
-        CHECK_MSG(worst <= tol, "%s: OpenCL vs reference %.3g > %g", cases[k].name, worst, tol);
-        if (getenv("MQ_DEBUG")) fprintf(stderr, "OpenCL %s: worst %.3g\n", cases[k].name, worst);
-    }
-    free(in);
-    free(out);
+    t_run_cases(dev.cl);
     sl_device_close(&dev);
 }
 

@@ -5,6 +5,8 @@
  * kernels/raster.h with the libm rounding (llrintf) the kernel's convert_ulong_rte matches. */
 #include "test.h"
 
+#include "march_fixture.h"
+
 #include "../cpu/raster.h"
 #include "../kernels/raster.h"
 #include "dual.h"
@@ -87,35 +89,10 @@ TEST(shadow_threads_maps_identical) {
     sl_device_close(&dev);
 }
 
-/* The plain loops: every sample, every tent corner, bounds checked per corner. */
-static void naive_z0(const float *recs, size_t n, int w, int h, uint32_t *z0) {
-    for (int t = 0; t < w * h; t++)
-        z0[t] = SL_RASTER_Z_EMPTY;
-    for (size_t s = 0; s < n; s++) {
-        const float *r = recs + s * SL_RASTER_REC;
-        for (sl_uint i = 0; i < (sl_uint)r[9]; i++)
-            for (sl_uint j = 0; j < (sl_uint)r[10]; j++) {
-                float x, y, z, fx, fy;
-                sl_int ix, iy;
-                sl_raster_sample(r, i, j, &x, &y, &z);
-                sl_raster_tent(x, y, &ix, &iy, &fx, &fy);
-                for (int c = 0; c < 4; c++) {
-                    int tx = ix + (c & 1), ty = iy + (c >> 1);
-                    if (tx < 0 || ty < 0 || tx >= w || ty >= h) continue;
-                    float sh =
-                        sl_raster_share(r[8], (c & 1) ? fx : 1.0f - fx, (c >> 1) ? fy : 1.0f - fy);
-                    if (llrintf(sh) == 0) continue;
-                    uint32_t b;
-                    memcpy(&b, &z, sizeof b);
-                    if (b < z0[ty * w + tx]) z0[ty * w + tx] = b;
-                }
-            }
-    }
-}
-
-static void naive_layers(const float *recs, size_t n, int w, int h, unsigned K, float d,
-                         const uint32_t *z0, uint64_t *bins) {
-    memset(bins, 0, (size_t)K * w * h * sizeof *bins);
+/* The plain loop both plain passes share: every sample, every tent corner, bounds checked per
+ * corner; visit(ctx, texel, rounded share, sample z) for each corner whose share rounds to > 0. */
+typedef void (*naive_visit)(void *ctx, int texel, long long q, float z);
+static void naive_corners(const float *recs, size_t n, int w, int h, naive_visit visit, void *ctx) {
     for (size_t s = 0; s < n; s++) {
         const float *r = recs + s * SL_RASTER_REC;
         for (sl_uint i = 0; i < (sl_uint)r[9]; i++)
@@ -131,13 +108,47 @@ static void naive_layers(const float *recs, size_t n, int w, int h, unsigned K, 
                         sl_raster_share(r[8], (c & 1) ? fx : 1.0f - fx, (c >> 1) ? fy : 1.0f - fy);
                     long long q = llrintf(sh);
                     if (q == 0) continue;
-                    float zz;
-                    memcpy(&zz, &z0[ty * w + tx], sizeof zz);
-                    bins[(size_t)sl_raster_layer(z - zz, d, K) * w * h + ty * w + tx] +=
-                        (uint64_t)q;
+                    visit(ctx, ty * w + tx, q, z);
                 }
             }
     }
+}
+
+/* z0: the minimum of the float bits of z per texel. */
+static void visit_z0(void *ctx, int t, long long q, float z) {
+    uint32_t *z0 = ctx, b;
+    (void)q;
+    memcpy(&b, &z, sizeof b);
+    if (b < z0[t]) z0[t] = b;
+}
+
+static void naive_z0(const float *recs, size_t n, int w, int h, uint32_t *z0) {
+    for (int t = 0; t < w * h; t++)
+        z0[t] = SL_RASTER_Z_EMPTY;
+    naive_corners(recs, n, w, h, visit_z0, z0);
+}
+
+typedef struct naive_layer_ctx {
+    unsigned K;
+    float d;
+    const uint32_t *z0;
+    uint64_t *bins;
+    size_t plane;
+} naive_layer_ctx;
+
+/* layers: the rounded share into the bin of the layer of z below the texel's z0. */
+static void visit_layer(void *ctx, int t, long long q, float z) {
+    const naive_layer_ctx *c = ctx;
+    float zz;
+    memcpy(&zz, &c->z0[t], sizeof zz);
+    c->bins[(size_t)sl_raster_layer(z - zz, c->d, c->K) * c->plane + t] += (uint64_t)q;
+}
+
+static void naive_layers(const float *recs, size_t n, int w, int h, unsigned K, float d,
+                         const uint32_t *z0, uint64_t *bins) {
+    memset(bins, 0, (size_t)K * w * h * sizeof *bins);
+    naive_layer_ctx c = {K, d, z0, bins, (size_t)w * h};
+    naive_corners(recs, n, w, h, visit_layer, &c);
 }
 
 /* Random ribbons in a 40 x 40 map, a third of them crossing or beyond its edges (the checked
@@ -183,26 +194,24 @@ TEST(raster_fast_path_matches_plain_loops) {
     free(bb);
 }
 
-/* March textures (T_f, sigma_f) with 1, 2 and 5 C threads: bit-identical (every (vertex, lobe)
- * has its own random stream and the threads only split the list). */
-TEST(march_threads_identical) {
+/* The fixture's march on the C path: both lobes, 4 paths a vertex, `threads` C threads (0: the
+ * default options' choice). */
+static void march_c(const march_wavy *w, int threads, sl_ftex *f) {
     sl_err e = {{0}};
-    sl_hair h;
-    sl_hair_procedural p = {SL_PROC_WAVY, 300, 12, 3};
-    CHECK(sl_hair_generate(&p, &h, &e) == 0);
-    sl_voxel_grid g;
-    CHECK(sl_voxelize(NULL, &h, 24, &g, &e) == 0);
-    sl_material m;
-    sl_material_default(&m);
-    sl_dual_tables dt;
-    CHECK(sl_dual_tables_build(&m, &dt, &e) == 0);
-    double dirs[6] = {0, 1, 0, 0.6, -0.48, 0.64};
     sl_march_opts o;
     sl_march_opts_default(&o);
     o.paths = 4;
-    o.threads = 1;
+    o.threads = threads;
+    CHECK(sl_march_build(NULL, &w->g, &w->dt, 2, w->dirs, &o, f, &e) == 0);
+}
+
+/* March textures (T_f, sigma_f) with 1, 2 and 5 C threads: bit-identical (every (vertex, lobe)
+ * has its own random stream and the threads only split the list). */
+TEST(march_threads_identical) {
+    march_wavy w;
+    march_wavy_setup(&w, NULL);
     sl_ftex a;
-    CHECK(sl_march_build(NULL, &g, &dt, 2, dirs, &o, &a, &e) == 0);
+    march_c(&w, 1, &a);
     CHECK(a.active > 10);
     size_t nv = (size_t)a.m[0] * a.m[1] * a.m[2] * SL_MARCH_CH * 2;
     int below1 = 0;
@@ -211,39 +220,25 @@ TEST(march_threads_identical) {
     CHECK(below1 > 0); /* some paths are shadowed: the textures carry something */
     const int counts[2] = {2, 5};
     for (int c = 0; c < 2; c++) {
-        o.threads = counts[c];
         sl_ftex b;
-        CHECK(sl_march_build(NULL, &g, &dt, 2, dirs, &o, &b, &e) == 0);
+        march_c(&w, counts[c], &b);
         CHECK(b.active == a.active);
         CHECK(!memcmp(a.T, b.T, nv * sizeof *a.T));
         CHECK(!memcmp(a.sigma, b.sigma, nv * sizeof *a.sigma));
         sl_ftex_free(&b);
     }
     sl_ftex_free(&a);
-    sl_voxel_grid_free(&g);
-    sl_hair_free(&h);
+    march_wavy_free(&w);
 }
 
 /* sl_ftex_lookup from the precomputed log texture (f.logT) against the same lookup taking the
  * logs of the corners itself (f.logT hidden): bit-identical T_f and sigma_f at random points
  * inside and outside the grid (the same logf of the same texels, summed in the same order). */
 TEST(march_ftex_log_texture_identical) {
-    sl_err e = {{0}};
-    sl_hair h;
-    sl_hair_procedural p = {SL_PROC_WAVY, 300, 12, 3};
-    CHECK(sl_hair_generate(&p, &h, &e) == 0);
-    sl_voxel_grid g;
-    CHECK(sl_voxelize(NULL, &h, 24, &g, &e) == 0);
-    sl_material m;
-    sl_material_default(&m);
-    sl_dual_tables dt;
-    CHECK(sl_dual_tables_build(&m, &dt, &e) == 0);
-    double dirs[6] = {0, 1, 0, 0.6, -0.48, 0.64};
-    sl_march_opts o;
-    sl_march_opts_default(&o);
-    o.paths = 4;
+    march_wavy w;
+    march_wavy_setup(&w, NULL);
     sl_ftex f;
-    CHECK(sl_march_build(NULL, &g, &dt, 2, dirs, &o, &f, &e) == 0);
+    march_c(&w, 0, &f);
     CHECK(f.logT != NULL);
     uint64_t st = 3;
     int shadowed = 0;
@@ -263,6 +258,5 @@ TEST(march_ftex_log_texture_identical) {
     }
     CHECK(shadowed > 0); /* the points see some T_f < 1 */
     sl_ftex_free(&f);
-    sl_voxel_grid_free(&g);
-    sl_hair_free(&h);
+    march_wavy_free(&w);
 }

@@ -7,6 +7,8 @@
  * quadrature; Xu's closed form against the exact reference on a small stiff sample. */
 #include "test.h"
 
+#include "srbf_stiff_fixture.h"
+
 #include "deon_ref.h"
 #include "marschner_ref.h"
 #include "material.h"
@@ -286,13 +288,11 @@ TEST(srbf_fast_W_table) {
  * as printed (m = 4) is checked to stay as measured (median 0.030, p95 0.227) within loose upper
  * bounds (0.05, 0.35): a regression detector, not a target. */
 TEST(srbf_fast_targets_stiff_sample) {
-    enum { N = 150 };
-    sl_srbf_config *cfg = malloc(N * sizeof *cfg);
-    sl_srbf_exact *x = malloc(N * sizeof *x);
-    sl_srbf_sample(SL_SRBF_SAMPLE_SEED, N, cfg);
+    enum { N = SRBF_STIFF_N };
+    sl_srbf_config *cfg;
+    sl_srbf_exact *x;
+    int rc = srbf_stiff_read(&cfg, &x);
     sl_err e = {{0}};
-    int rc = sl_srbf_exact_read("test/test_srbf_stiff.csv", cfg, N, x, &e);
-    CHECK_MSG(rc == 0, "%s", e.msg);
     sl_srbf_tables t;
     CHECK(sl_srbf_tables_get(&t, 0, &e) == 0);
     if (rc == 0) {
@@ -314,8 +314,8 @@ TEST(srbf_fast_targets_stiff_sample) {
                 sl_srbf_sample_material(cfg[i].material, &m);
                 sl_fiber_params fp;
                 sl_material_to_fiber(&m, 0, &fp);
-                float in[5] = {(float)cfg[i].theta_o, (float)cfg[i].phi_o, (float)cfg[i].theta_j,
-                               (float)cfg[i].phi_j, (float)cfg[i].lambda};
+                float in[5];
+                sl_srbf_config_row(cfg + i, in);
                 slc_srbf_batch(&fp, t.C, t.H, method == 0 ? SL_SRBF_METHOD_FAST : SL_SRBF_METHOD_XU,
                                4, 1, in, out + 4 * i);
             }

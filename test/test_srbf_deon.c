@@ -75,14 +75,6 @@ static int get_tables(sl_srbf_tables *t) {
     return sl_srbf_tables_get(t, 0, &e);
 }
 
-static void cfg_row(const sl_srbf_config *c, float row[5]) {
-    row[0] = (float)c->theta_o;
-    row[1] = (float)c->phi_o;
-    row[2] = (float)c->theta_j;
-    row[3] = (float)c->phi_j;
-    row[4] = (float)c->lambda;
-}
-
 /* The fast path at one configuration, in out[0..orders+2]. */
 static void fast_one(const sl_srbf_tables *t, const sl_material *m, double to, double po, double tj,
                      double pj, double lam, float *out) {
@@ -320,7 +312,7 @@ TEST(srbf_deon_c_vs_opencl) {
     float *a = malloc(N * SL_SRBF_DEON_NOUT * sizeof *a),
           *b = malloc(N * SL_SRBF_DEON_NOUT * sizeof *b);
     for (int r = 0; r < N; r++)
-        cfg_row(cfg + r, in + 5 * r);
+        sl_srbf_config_row(cfg + r, in + 5 * r);
     for (int mi = 0; mi < 5 && !sl_test_failed_now(); mi++) {
         sl_material m;
         deon_material(mi, &m);
@@ -358,7 +350,7 @@ TEST(srbf_deon_rgb_rows) {
     sl_srbf_sample(SL_SRBF_SAMPLE_SEED, N, cfg);
     float in[N * 5], sig[N * 3], rgb[N * 9], cl_rgb[N * 9];
     for (int r = 0; r < N; r++) {
-        cfg_row(cfg + r, in + 5 * r);
+        sl_srbf_config_row(cfg + r, in + 5 * r);
         sig[3 * r] = 0.1f + 0.05f * (float)(r % 7);
         sig[3 * r + 1] = r % 3 ? sig[3 * r] : 1.5f; /* some rows with equal channels */
         sig[3 * r + 2] = 2.0f;
@@ -480,7 +472,7 @@ TEST(srbf_deon_measure) {
     /* speed: the same rows, d'Eon (8 orders) and the Marschner fast path, best of 3 */
     float *in = malloc((size_t)n * 5 * sizeof *in);
     for (int r = 0; r < n; r++)
-        cfg_row(cfg + r, in + 5 * r);
+        sl_srbf_config_row(cfg + r, in + 5 * r);
     int reps = 20000 / n + 1;
     printf("lobe evaluations per second, C twin, 1 thread: deon (8 orders) %.3g, marschner fast "
            "%.3g\n",

@@ -23,9 +23,7 @@ static void rgb_rows(int n, float *in, float *sig) {
     sl_srbf_config *cfg = malloc((size_t)n * sizeof *cfg);
     sl_srbf_sample(SL_SRBF_SAMPLE_SEED, n, cfg);
     for (int i = 0; i < n; i++) {
-        float *p = in + 5 * i;
-        p[0] = (float)cfg[i].theta_o, p[1] = (float)cfg[i].phi_o, p[2] = (float)cfg[i].theta_j;
-        p[3] = (float)cfg[i].phi_j, p[4] = (float)cfg[i].lambda;
+        sl_srbf_config_row(cfg + i, in + 5 * i);
         sig[3 * i] = 0.05f + 0.11f * (float)(i % 7);
         sig[3 * i + 1] = 0.3f + 0.5f * (float)(i % 5);
         sig[3 * i + 2] = i % 9 == 0 ? sig[3 * i] : 1.5f + 0.25f * (float)(i % 3);
@@ -33,10 +31,15 @@ static void rgb_rows(int n, float *in, float *sig) {
     free(cfg);
 }
 
-static void eccentric_or_default(int i, sl_material *m) {
-    sl_material_default(m);
-    if (i == 1) m->eccentricity = 0.85; /* the eccentric TRT branch */
-    if (i == 2) m->fresnel = 1;         /* Schlick: no R residual */
+/* The fiber of material case i: 0 the default, 1 eccentric, 2 Schlick. */
+static sl_fiber_params eccentric_or_default(int i) {
+    sl_material m;
+    sl_material_default(&m);
+    if (i == 1) m.eccentricity = 0.85; /* the eccentric TRT branch */
+    if (i == 2) m.fresnel = 1;         /* Schlick: no R residual */
+    sl_fiber_params fp;
+    sl_material_to_fiber(&m, 0, &fp);
+    return fp;
 }
 
 /* Row r of the RGB batch is, per channel, the single-channel batch with fp->sigma_a = sigma_a
@@ -53,10 +56,7 @@ TEST(srbf_fast_rgb_vs_single_channel) {
     rgb_rows(N, in, sig);
     for (int mi = 0; mi < 3; mi++)
         for (int method = 0; method < 2; method++) {
-            sl_material m;
-            eccentric_or_default(mi, &m);
-            sl_fiber_params fp;
-            sl_material_to_fiber(&m, 0, &fp);
+            sl_fiber_params fp = eccentric_or_default(mi);
             slc_srbf_rgb_batch(&fp, t.C, t.H, method, 4, N, in, sig, rgb);
             int bad = 0;
             for (int r = 0; r < N; r++)
@@ -144,10 +144,7 @@ TEST(srbf_fast_rgb_c_vs_opencl) {
     rgb_rows(N, in, sig);
     for (int mi = 0; mi < 3; mi++)
         for (int method = 0; method < 2; method++) {
-            sl_material m;
-            eccentric_or_default(mi, &m);
-            sl_fiber_params fp;
-            sl_material_to_fiber(&m, 0, &fp);
+            sl_fiber_params fp = eccentric_or_default(mi);
             int rc = slcl_srbf_rgb_batch(dev.cl, &fp, &t, method, 4, N, in, sig, a, &e);
             CHECK_MSG(rc == 0, "%s", e.msg);
             rc = slcl_srbf_rgb_batch_ex(dev.cl, &fp, &t, method, 4, N, in, sig, g, 1, &e);

@@ -6,6 +6,8 @@
  * small or cached in the test's scratch dir. */
 #include "test.h"
 
+#include "srbf_stiff_fixture.h"
+
 #include "fiber_eval.h"
 #include "report_srbf.h"
 #include "srbf_c.h"
@@ -182,13 +184,11 @@ TEST(srbf_ren_between_nodes) {
  * rows. Bounds 0.02 / 0.10 (2.5x): a regression detector stated against the measurement, not a
  * target the table meets everywhere (docs/srbf_ren.md has all 150 rows). */
 TEST(srbf_ren_vs_exact_stiff_rows) {
-    enum { N = 150 };
-    sl_srbf_config *cfg = malloc(N * sizeof *cfg);
-    sl_srbf_exact *x = malloc(N * sizeof *x);
-    sl_srbf_sample(SL_SRBF_SAMPLE_SEED, N, cfg);
+    enum { N = SRBF_STIFF_N };
+    sl_srbf_config *cfg;
+    sl_srbf_exact *x;
+    int rc = srbf_stiff_read(&cfg, &x);
     sl_err e = {{0}};
-    int rc = sl_srbf_exact_read("test/test_srbf_stiff.csv", cfg, N, x, &e);
-    CHECK_MSG(rc == 0, "%s", e.msg);
     sl_material m;
     sl_srbf_ren t;
     if (rc == 0 && default_table(&t, &m) == 0) {
@@ -196,8 +196,8 @@ TEST(srbf_ren_vs_exact_stiff_rows) {
         int n = 0;
         for (int i = 0; i < N; i++) {
             if (cfg[i].material != 0) continue;
-            float in[5] = {(float)cfg[i].theta_o, (float)cfg[i].phi_o, (float)cfg[i].theta_j,
-                           (float)cfg[i].phi_j, (float)cfg[i].lambda};
+            float in[5];
+            sl_srbf_config_row(cfg + i, in);
             float o[4];
             CHECK(sl_srbf_ren_eval(NULL, &t, 0, 1, in, o, &e) == 0);
             err[n++] = slref_srbf_error(o[3], x[i].v[3], cfg[i].lambda);
