@@ -14,6 +14,7 @@
  * below quality.point_threshold, the K-buffer layers no pixel reached and, for opaque hair, the
  * transparency channel. */
 #include "frame_internal.h"
+#include "lobe_subdivide.h"
 #include "shadow_split.h"
 #include "srbf_c.h"
 #include "voxel.h"
@@ -229,7 +230,7 @@ static int split_order_cmp(const void *a, const void *b) {
 }
 
 static int light_pass(sl_renderer *r, const sl_scene *s, const sl_hair *h, const sl_lobes *lobes,
-                      const int *used, int nused, sl_err *e) {
+                      const int *used, int nused, int extra_maps, sl_err *e) {
     sl_shadow_opts so;
     memset(&so, 0, sizeof so); /* padding too: the struct is hashed */
     sl_shadow_opts_default(&so);
@@ -243,6 +244,7 @@ static int light_pass(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
         k = sl_hash64(lobes->lobe[used[j]].dir, sizeof lobes->lobe[0].dir, k);
         k = sl_hash64(&lobes->lobe[used[j]].lambda, sizeof(double), k);
     }
+    k = sl_hash64(&extra_maps, sizeof extra_maps, k);
     if (k == r->light_key && r->light) {
         sl_frame_pass(r, "light", SL_PASS_CACHED, 0,
                       "%d deep opacity maps reused (geometry, lobes and shadow quality unchanged)",
@@ -251,9 +253,10 @@ static int light_pass(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     }
     free_lights(r);
     double t0 = sl_now();
-    /* broad lobes get several maps (shadow_split.h), within a budget of
-     * SL_SHADOW_SPLIT_MAPS_PER_LOBE per lobe: the extra maps go to the broad lobes of largest
-     * power first (a lobe left without extras keeps its single capped map) */
+    /* broad lobes get several maps (shadow_split.h), within a budget of extra_maps beyond one
+     * per lobe (SL_SHADOW_SPLIT_MAPS_PER_LOBE per lobe; with sub-lobes, what they left): the
+     * extra maps go to the broad lobes of largest power first (a lobe left without extras keeps
+     * its single capped map) */
     int nmaps = 0, nsplit = 0;
     double sd[3 * SL_SHADOW_SPLIT_N], sw[SL_SHADOW_SPLIT_N];
     int *want = sl_malloc((nused ? nused : 1) * sizeof *want);
@@ -268,45 +271,44 @@ static int light_pass(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
                 j, c, (lb->rgb[0] + lb->rgb[1] + lb->rgb[2]) * sl_lobe_integral(lb->lambda)};
     }
     qsort(order, (size_t)nbroad, sizeof *order, split_order_cmp);
-    for (int b = 0, extra = (SL_SHADOW_SPLIT_MAPS_PER_LOBE - 1) * nused; b < nbroad; b++) {
+    for (int b = 0, extra = extra_maps; b < nbroad; b++) {
         int give = order[b].dirs - 1 < extra ? order[b].dirs - 1 : extra;
         want[order[b].lobe] = 1 + give;
         extra -= give;
     }
     free(order);
-    for (int j = 0; j < nused; j++) {
-        nmaps += want[j];
+    for (int j = 0; j < nused; j++)
         nsplit += want[j] > 1;
-    }
+    sl_shadow_maps sm;
+    sl_shadow_maps_plan(lobes, used, nused, want, &sm);
+    nmaps = sm.n;
     r->light = sl_calloc(nmaps ? nmaps : 1, sizeof *r->light);
     r->light_lobe = sl_malloc((nmaps ? nmaps : 1) * sizeof *r->light_lobe);
     r->light_w = sl_malloc((nmaps ? nmaps : 1) * sizeof *r->light_w);
     sl_progress pr;
     sl_progress_begin(&pr, "light pass");
-    for (int j = 0, m = 0; j < nused; j++) {
-        const sl_lobe *lb = &lobes->lobe[used[j]];
-        int c = sl_shadow_split_max(lb->dir, lb->lambda, want[j], sd, sw);
-        for (int q = 0; q < c; q++, m++) {
-            if (sl_shadow_build(r->dev, h, sd + 3 * q, lb->lambda, &so, &r->light[m], e)) {
-                sl_progress_end(&pr);
-                r->nlights = m;
-                free_lights(r);
-                free(want);
-                return -1;
-            }
-            r->light_lobe[m] = j;
-            r->light_w[m] = sw[q];
-            r->nlights = m + 1;
-            sl_progress_update(&pr, (m + 1.0) / nmaps);
+    for (int m = 0; m < nmaps; m++) {
+        if (sl_shadow_build(r->dev, h, sm.dir + 3 * m, sm.lambda[m], &so, &r->light[m], e)) {
+            sl_progress_end(&pr);
+            r->nlights = m;
+            free_lights(r);
+            free(want);
+            sl_shadow_maps_free(&sm);
+            return -1;
         }
+        r->light_lobe[m] = sm.lobe[m];
+        r->light_w[m] = sm.w[m];
+        r->nlights = m + 1;
+        sl_progress_update(&pr, (m + 1.0) / nmaps);
     }
+    sl_shadow_maps_free(&sm);
     sl_progress_end(&pr);
     free(want);
     r->light_key = k;
-    sl_frame_pass(r, "light", SL_PASS_RUN, sl_now() - t0,
-                  "%d deep opacity maps %dx%d for %d lobes (%d broad, split), K=%d, kappa %.3g (%s)",
-                  nmaps, so.size, so.size, nused, nsplit, so.layers, so.kappa,
-                  r->dev->is_opencl ? "OpenCL" : "C");
+    sl_frame_pass(
+        r, "light", SL_PASS_RUN, sl_now() - t0,
+        "%d deep opacity maps %dx%d for %d lobes (%d broad, split), K=%d, kappa %.3g (%s)", nmaps,
+        so.size, so.size, nused, nsplit, so.layers, so.kappa, r->dev->is_opencl ? "OpenCL" : "C");
     return 0;
 }
 
@@ -440,9 +442,16 @@ void sl_frame_estimate(const sl_scene *s, int shadow_size_opt, sl_frame_need *n)
     double view = kbuf + npx * (1.0 + 4.0 * K), outs = 16.0 * npx;
     int size = sl_frame_shadow_size(s, shadow_size_opt), layers = sl_frame_shadow_layers(s);
     int nl = s->lobes > 0 ? s->lobes : 1;
-    double points = npx * K * (24.0 + 12.0 + 4.0 + 4.0 * nl + 4.0 * SL_SHADE_FLOATS);
+    /* maps: SL_SHADOW_SPLIT_MAPS_PER_LOBE per lobe (broad lobes split), at least
+     * SL_SUBDIV_MIN_BUDGET when broad lobes are subdivided; the frame shades as many lobes at most
+     * (sub-lobes: lobe_subdivide.h), each a T per point */
+    int nmaps = SL_SHADOW_SPLIT_MAPS_PER_LOBE * nl;
+    if (s->broad_lobes == SL_BROAD_SUBDIVIDE && nmaps < SL_SUBDIV_MIN_BUDGET)
+        nmaps = SL_SUBDIV_MIN_BUDGET;
+    int nshade = s->broad_lobes == SL_BROAD_SUBDIVIDE ? nmaps : nl;
+    double points = npx * K * (24.0 + 12.0 + 4.0 + 4.0 * nshade + 4.0 * SL_SHADE_FLOATS);
     double shadow_one = (double)size * size * (4.0 + 8.0 * layers),
-           shadow = (double)SL_SHADOW_SPLIT_MAPS_PER_LOBE * nl * shadow_one; /* broad lobes split */
+           shadow = (double)nmaps * shadow_one;
     double vox =
         s->voxels > 0 ? (double)s->voxels * s->voxels * s->voxels * 4.0 * SL_VOX_FIELDS : 0.0;
     n->host = fbuf + view + outs + points + shadow + vox;
@@ -676,10 +685,57 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
                       "all %d lobes above %.3g of the total power (quality.lobe_threshold)", nused,
                       lobe_thr);
 
+    /* broad lobes (docs/shadow.md, "Broad lobes"): with quality.broad_lobes subdivide, every used
+     * lobe with lambda > SL_SUBDIV_LAMBDA_MIN becomes narrower sub-lobes that sum to it
+     * (host/lobe_subdivide.h), so every pass below (light, march, lookup, shade) sees narrow
+     * lobes, each with its own transmittance and response. The budget is the split's: lobes
+     * (one map each) plus split maps <= SL_SHADOW_SPLIT_MAPS_PER_LOBE x the used lobes (at least
+     * SL_SUBDIV_MIN_BUDGET). The fit takes ~1 ms per broad lobe and is redone each frame; the
+     * sub-lobes are deterministic, so an orbit's light pass still finds its maps by key. */
+    const sl_lobes *fl = lobes;
+    sl_lobes sub;
+    memset(&sub, 0, sizeof sub);
+    int extra_maps = (SL_SHADOW_SPLIT_MAPS_PER_LOBE - 1) * nused;
+    if (s->broad_lobes == SL_BROAD_SUBDIVIDE) {
+        t0 = sl_now();
+        int budget = SL_SHADOW_SPLIT_MAPS_PER_LOBE * nused, nbroad = 0, nsub = 0;
+        if (budget < SL_SUBDIV_MIN_BUDGET) budget = SL_SUBDIV_MIN_BUDGET;
+        sl_lobes_subdivide(lobes, used, nused, budget, NULL, &sub, NULL, &nbroad, &nsub);
+        if (nbroad > 0) {
+            fl = &sub;
+            free(used);
+            free(share);
+            nused = sub.count;
+            used = sl_malloc(nused * sizeof *used);
+            share = sl_malloc(nused * sizeof *share);
+            for (int j = 0; j < nused; j++) {
+                const sl_lobe *lb = &sub.lobe[j];
+                used[j] = j;
+                share[j] = total > 0
+                               ? (lum[0] * lb->rgb[0] + lum[1] * lb->rgb[1] + lum[2] * lb->rgb[2]) *
+                                     sl_lobe_integral(lb->lambda) / total
+                               : 0;
+            }
+            extra_maps = budget - nused > 0 ? budget - nused : 0;
+            sl_frame_pass(r, "subdivide", SL_PASS_RUN, sl_now() - t0,
+                          "%d broad lobes (lambda > %.2g) subdivided into %d sub-lobes: %d lobes "
+                          "shaded, at most %d deep opacity maps (quality.broad_lobes subdivide)",
+                          nbroad, SL_SUBDIV_LAMBDA_MIN, nsub, nused, nused + extra_maps);
+        } else {
+            sl_frame_pass(r, "subdivide", SL_PASS_SKIPPED, sl_now() - t0,
+                          "no used lobe broader than lambda %.2g (quality.broad_lobes subdivide)",
+                          SL_SUBDIV_LAMBDA_MIN);
+        }
+    } else {
+        sl_frame_pass(r, "subdivide", SL_PASS_SKIPPED, 0,
+                      "quality.broad_lobes split: a broad lobe keeps one lobe, its transmittance "
+                      "split over several maps");
+    }
+
     int rc = -1;
     sl_shade_points pts = {0};
     shade_map sm = {0};
-    if (light_pass(r, s, h, lobes, used, nused, e)) goto done;
+    if (light_pass(r, s, h, fl, used, nused, extra_maps, e)) goto done;
 
     /* the multiple-scattering decision (the material key dk: dual tables, march, MS response) */
     uint64_t dk = 0x22; /* field by field: the struct has padding */
@@ -738,7 +794,7 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
         double *dirs = sl_malloc(3 * (nused ? nused : 1) * sizeof *dirs);
         for (int j = 0; j < nused; j++)
             for (int k = 0; k < 3; k++)
-                dirs[3 * j + k] = lobes->lobe[used[j]].dir[k];
+                dirs[3 * j + k] = fl->lobe[used[j]].dir[k];
         uint64_t vk0 = sl_hash64(&dk, sizeof dk, gk);
         vk0 = sl_hash64(dirs, 3 * nused * sizeof *dirs, vk0);
         if (r->have_vol && r->have_vgrid && gk == r->vox_key && vk0 == r->vol_key) {
@@ -882,7 +938,7 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     }
     t0 = sl_now();
     sl_shade_ctx sc = {mat,
-                       lobes,
+                       fl,
                        used,
                        nused,
                        share,
@@ -947,6 +1003,7 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     rc = 0;
     r->frames_done++;
 done:
+    sl_lobes_free(&sub);
     free(used);
     free(share);
     free(pts.pos);

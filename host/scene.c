@@ -38,6 +38,7 @@ void sl_scene_default(sl_scene *s) {
     s->point_threshold = SL_FRAME_POINT_THRESHOLD;
     s->ms_auto_threshold = SL_FRAME_MS_AUTO_THRESHOLD;
     s->auto_fragment_px = SL_FRAME_AUTO_FRAGMENT_PX;
+    s->broad_lobes = SL_BROAD_SUBDIVIDE;
 }
 
 /* Resolves a path from the scene against the scene file's directory. */
@@ -200,6 +201,7 @@ static int read_quality(const sl_json_ctx *top, const cJSON *q, sl_scene *s, sl_
                                        "point_threshold",
                                        "ms_auto_threshold",
                                        "auto_fragment_px",
+                                       "broad_lobes",
                                        NULL};
     sl_json_ctx c = {top->file, "quality"};
     if (sl_json_check_keys(&c, q, keys, e)) return -1;
@@ -258,6 +260,17 @@ static int read_quality(const sl_json_ctx *top, const cJSON *q, sl_scene *s, sl_
         strncmp(s->shading_rate, "vertex", 6))
         return sl_fail(e, "%s: quality.shading_rate: expected \"auto\", \"fragment\" or \"vertex\"",
                        top->file);
+    char bl[16] = "";
+    if (sl_json_string(&c, q, "broad_lobes", 0, bl, sizeof bl, e)) return -1;
+    if (bl[0]) {
+        if (strcmp(bl, "subdivide") == 0)
+            s->broad_lobes = SL_BROAD_SUBDIVIDE;
+        else if (strcmp(bl, "split") == 0)
+            s->broad_lobes = SL_BROAD_SPLIT;
+        else
+            return sl_fail(e, "%s: quality.broad_lobes: expected \"subdivide\" or \"split\"",
+                           top->file);
+    }
     return 0;
 }
 

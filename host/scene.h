@@ -18,6 +18,10 @@
 #define SL_FRAME_AUTO_FRAGMENT_PX 24.0
 
 enum { SL_MS_AUTO = 0, SL_MS_ON = 1, SL_MS_OFF = 2 };
+/* quality.broad_lobes (docs/shadow.md, "Broad lobes"): a broad lobe is shaded as narrower
+ * sub-lobes (host/lobe_subdivide.h), or keeps one lobe with a split transmittance
+ * (host/shadow_split.h) */
+enum { SL_BROAD_SUBDIVIDE = 0, SL_BROAD_SPLIT = 1 };
 
 typedef struct sl_scene {
     char path[4096]; /* the scene file itself */
@@ -61,6 +65,7 @@ typedef struct sl_scene {
     double point_threshold;   /* quality.point_threshold: per point, skip lobe j if T_j share < */
     double ms_auto_threshold; /* quality.ms_auto_threshold: "auto" MS when ms share >= this */
     double auto_fragment_px;  /* quality.auto_fragment_px: shading_rate auto -> fragment above */
+    int broad_lobes;          /* quality.broad_lobes: SL_BROAD_SUBDIVIDE (default) or _SPLIT */
 
     /* output */
     char out_exr[4096], out_png[4096];

@@ -5,7 +5,6 @@
 #include "shadow_eval.h"
 
 #include "eval_scene.h"
-#include "scene_hair.h"
 #include "scene.h"
 #include "shadow.h"
 #include "shadow_split.h"
@@ -18,24 +17,21 @@
 
 int sl_shadow_eval_transmittance(const char *scene_path, sl_eval_backend b, sl_cl *cl, size_t n,
                                  const double *in, const long *line_no, double *out, sl_err *e) {
-    sl_scene *s = sl_malloc(sizeof *s);
-    sl_hair h;
-    sl_lobes lobes;
-    memset(&h, 0, sizeof h);
-    memset(&lobes, 0, sizeof lobes);
+    sl_eval_scene_data d;
+    if (sl_eval_scene_load(scene_path, NULL, n, in, line_no, &d, e)) return -1;
+    const sl_scene *s = d.scene;
+    const sl_hair *h = &d.hair;
+    const sl_lobes *lobes = &d.lobes;
     int rc = -1;
-    if (sl_scene_load(scene_path, s, e)) goto done;
-    if (sl_eval_scene_lobes(s, n, in, line_no, &lobes, e)) goto done;
-    if (sl_scene_load_hair(s, &h, e)) goto done;
     if (n == 0) {
         rc = 0;
         goto done;
     }
     if (b == SL_EVAL_REFERENCE) {
         slref_fibers *f;
-        if (slref_fibers_build(&h, &f, e)) goto done;
+        if (slref_fibers_build(h, &f, e)) goto done;
         for (size_t i = 0; i < n; i++) {
-            const sl_lobe *l = &lobes.lobe[(int)in[4 * i + 3]];
+            const sl_lobe *l = &lobes->lobe[(int)in[4 * i + 3]];
             out[i] = slref_transmittance(f, in + 4 * i, l->dir, l->lambda, SL_SHADOW_REF_SAMPLES,
                                          (uint64_t)i + 1, NULL);
         }
@@ -53,49 +49,43 @@ int sl_shadow_eval_transmittance(const char *scene_path, sl_eval_backend b, sl_c
     /* one batched light pass for the lobes the rows use (maps stay on the device), a broad lobe
      * split into its shadow directions (shadow_split.h), then lookups of every row toward its
      * lobe's directions, combined with their weights */
-    int *used = sl_malloc((size_t)lobes.count * sizeof *used), nmaps = 0;
-    size_t cap = (size_t)lobes.count * SL_SHADOW_SPLIT_N;
-    double *dirs = sl_malloc(3 * cap * sizeof *dirs), *lam = sl_malloc(cap * sizeof *lam),
-           *wmap = sl_malloc(cap * sizeof *wmap);
-    int *first = sl_malloc(((size_t)lobes.count + 1) * sizeof *first),
-        *count = sl_malloc((size_t)lobes.count * sizeof *count);
-    for (int j = 0; j < lobes.count; j++)
-        used[j] = -1;
+    /* the lobes the rows use, in order of first use; pos[j]: lobe j's place among them */
+    int *pos = sl_malloc((size_t)lobes->count * sizeof *pos),
+        *idx = sl_malloc((size_t)lobes->count * sizeof *idx), nlobes = 0;
+    for (int j = 0; j < lobes->count; j++)
+        pos[j] = -1;
     for (size_t i = 0; i < n; i++) {
         int j = (int)in[4 * i + 3];
-        if (used[j] >= 0) continue;
-        used[j] = 1;
-        first[j] = nmaps;
-        count[j] = sl_shadow_split(lobes.lobe[j].dir, lobes.lobe[j].lambda, dirs + 3 * nmaps,
-                                   wmap + nmaps);
-        for (int q = 0; q < count[j]; q++)
-            lam[nmaps + q] = lobes.lobe[j].lambda;
-        nmaps += count[j];
+        if (pos[j] < 0) idx[nlobes] = j, pos[j] = nlobes++;
     }
-    int nused = nmaps;
+    sl_shadow_maps mp;
+    sl_shadow_maps_plan(lobes, idx, nlobes, NULL, &mp);
+    int nused = mp.n;
     size_t nx = 0;
-    for (size_t i = 0; i < n; i++)
-        nx += (size_t)count[(int)in[4 * i + 3]];
+    for (size_t i = 0; i < n; i++) {
+        int q = pos[(int)in[4 * i + 3]];
+        nx += (size_t)(mp.first[q + 1] - mp.first[q]);
+    }
     double *xyz = sl_malloc(3 * nx * sizeof *xyz), *Tx = sl_malloc(nx * sizeof *Tx);
     int *lb = sl_malloc(nx * sizeof *lb);
     for (size_t i = 0, r = 0; i < n; i++) {
-        int j = (int)in[4 * i + 3];
-        for (int q = 0; q < count[j]; q++, r++) {
+        int q = pos[(int)in[4 * i + 3]];
+        for (int m = mp.first[q]; m < mp.first[q + 1]; m++, r++) {
             memcpy(xyz + 3 * r, in + 4 * i, 3 * sizeof *xyz);
-            lb[r] = first[j] + q;
+            lb[r] = m;
         }
     }
     sl_shadow_batch sb;
     double t0 = sl_now();
-    rc = sl_shadow_build_batch(&dev, &h, nused, dirs, lam, &o, &sb, e);
+    rc = sl_shadow_build_batch(&dev, h, nused, mp.dir, mp.lambda, &o, &sb, e);
     if (!rc) {
         double t1 = sl_now();
         rc = sl_shadow_batch_lookup(&sb, nx, xyz, lb, Tx, e);
         for (size_t i = 0, r = 0; i < n && !rc; i++) {
-            int j = (int)in[4 * i + 3];
+            int q = pos[(int)in[4 * i + 3]];
             double t = 0;
-            for (int q = 0; q < count[j]; q++, r++)
-                t += wmap[first[j] + q] * Tx[r];
+            for (int m = mp.first[q]; m < mp.first[q + 1]; m++, r++)
+                t += mp.w[m] * Tx[r];
             out[i] = t;
         }
         double t2 = sl_now();
@@ -109,18 +99,13 @@ int sl_shadow_eval_transmittance(const char *scene_path, sl_eval_backend b, sl_c
                     sb.project_s, sb.raster_s, sb.tables_s, t2 - t1);
         sl_shadow_batch_free(&sb);
     }
-    free(used);
-    free(dirs);
-    free(lam);
+    free(pos);
+    free(idx);
+    sl_shadow_maps_free(&mp);
     free(lb);
     free(xyz);
     free(Tx);
-    free(wmap);
-    free(first);
-    free(count);
 done:
-    sl_lobes_free(&lobes);
-    sl_hair_free(&h);
-    free(s);
+    sl_eval_scene_free(&d);
     return rc;
 }

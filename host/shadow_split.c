@@ -4,6 +4,8 @@
 #include "shadow.h"
 
 #include <math.h>
+#include <stdlib.h>
+#include <string.h>
 
 int sl_shadow_split(const double dir[3], double lambda, double *dirs, double *w) {
     if (sl_shadow_lobe_support(lambda) <= SL_SHADOW_SUPPORT_MAX_DEG * M_PI / 180.0) {
@@ -55,4 +57,37 @@ int sl_shadow_split_max(const double dir[3], double lambda, int max, double *dir
     for (int s = 0; s < max; s++)
         w[s] /= sum;
     return max;
+}
+
+void sl_shadow_maps_plan(const sl_lobes *l, const int *idx, int count, const int *want,
+                         sl_shadow_maps *m) {
+    size_t cap = (size_t)(count ? count : 1) * SL_SHADOW_SPLIT_N;
+    m->dir = sl_malloc(3 * cap * sizeof *m->dir);
+    m->lambda = sl_malloc(cap * sizeof *m->lambda);
+    m->w = sl_malloc(cap * sizeof *m->w);
+    m->lobe = sl_malloc(cap * sizeof *m->lobe);
+    m->first = sl_malloc(((size_t)count + 1) * sizeof *m->first);
+    int n = 0;
+    for (int j = 0; j < count; j++) {
+        const sl_lobe *lb = &l->lobe[idx[j]];
+        m->first[j] = n;
+        int c = want ? sl_shadow_split_max(lb->dir, lb->lambda, want[j], m->dir + 3 * n, m->w + n)
+                     : sl_shadow_split(lb->dir, lb->lambda, m->dir + 3 * n, m->w + n);
+        for (int q = 0; q < c; q++) {
+            m->lambda[n + q] = lb->lambda;
+            m->lobe[n + q] = j;
+        }
+        n += c;
+    }
+    m->first[count] = n;
+    m->n = n;
+}
+
+void sl_shadow_maps_free(sl_shadow_maps *m) {
+    free(m->dir);
+    free(m->lambda);
+    free(m->w);
+    free(m->lobe);
+    free(m->first);
+    memset(m, 0, sizeof *m);
 }

@@ -9,6 +9,8 @@
 #ifndef SL_SHADOW_SPLIT_H
 #define SL_SHADOW_SPLIT_H
 
+#include "lobes_json.h"
+
 /* Directions on the whole sphere before the cut (a spherical Fibonacci set with both poles on
  * the lobe axis): spacing ~sqrt(4 pi / 12) = 59 degrees, twice the capped 30-degree support. */
 #define SL_SHADOW_SPLIT_N 12
@@ -23,6 +25,24 @@ int sl_shadow_split(const double dir[3], double lambda, double *dirs, double *w)
 /* The same, keeping at most max directions (those of largest weight, renormalised; max = 1:
  * the lobe's axis alone, the single capped map). */
 int sl_shadow_split_max(const double dir[3], double lambda, int max, double *dirs, double *w);
+/* The deep opacity maps of several lobes, the one expansion `eval transmittance`
+ * (shadow_eval.c) and the renderer's light pass (frame.c) share: lobe j's maps are
+ * first[j] .. first[j + 1] - 1, each with a direction, the lobe's lambda, its weight in the
+ * lobe's T (T_j = sum w T_map) and its lobe j. */
+typedef struct sl_shadow_maps {
+    int n;
+    double *dir;    /* 3 n, unit */
+    double *lambda; /* n */
+    double *w;      /* n */
+    int *lobe;      /* n: the lobe's position in idx */
+    int *first;     /* count + 1 */
+} sl_shadow_maps;
+/* The maps of lobes l->lobe[idx[0..count-1]]: lobe j gets sl_shadow_split_max(..., want[j])
+ * directions, or every one (sl_shadow_split) when want is NULL. Free with sl_shadow_maps_free. */
+void sl_shadow_maps_plan(const sl_lobes *l, const int *idx, int count, const int *want,
+                         sl_shadow_maps *m);
+void sl_shadow_maps_free(sl_shadow_maps *m);
+
 /* The renderer's budget: at most this many maps per used lobe on average (frame.c gives the
  * extra maps to the broad lobes of largest power; sl_frame_estimate counts this many). */
 #define SL_SHADOW_SPLIT_MAPS_PER_LOBE 2

@@ -258,6 +258,7 @@ TEST(frame_estimate_matches_sizes) {
     sl_scene_default(&s);
     s.width = 100, s.height = 50, s.voxels = 4, s.lobes = 1, s.layers = 4, s.shadow_size = 16;
     s.oit_layers = 4;
+    s.broad_lobes = SL_BROAD_SPLIT; /* subdivision's budget: checked at the end */
     double a = (double)sl_frame_estimate_bytes(&s, 0);
     s.oit_layers = 8;
     double b = (double)sl_frame_estimate_bytes(&s, 0);
@@ -269,6 +270,12 @@ TEST(frame_estimate_matches_sizes) {
     /* x SL_SHADOW_SPLIT_MAPS_PER_LOBE maps per lobe (broad lobes are split, shadow_split.h) */
     CHECK_NEAR(c - b, 2.0 * (32.0 * 32 - 16 * 16) * (4 + 8 * 4), 0.5);
     CHECK_NEAR((double)sl_frame_estimate_bytes(&s, 16), b, 0.5); /* the option overrides */
+    /* broad lobes subdivided (host/lobe_subdivide.h): max(2 x 1, SL_SUBDIV_MIN_BUDGET) = 12 maps
+     * and as many lobes shaded (a T float per lobe per point) instead of 2 maps and 1 lobe */
+    s.broad_lobes = SL_BROAD_SUBDIVIDE;
+    double d = (double)sl_frame_estimate_bytes(&s, 0);
+    CHECK_NEAR(d - c, (12.0 - 2.0) * 32 * 32 * (4 + 8 * 4) + 5000.0 * 8 * 4 * (12 - 1), 0.5);
+    s.broad_lobes = SL_BROAD_SPLIT;
     CHECK(sl_frame_oit_k(&s) == 8);
     s.oit_layers = 1000;
     CHECK(sl_frame_oit_k(&s) == SL_KBUFFER_MAX);
