@@ -1,6 +1,7 @@
-/* cmd_reference.c: `strandlight reference SCENE.json -o REF.exr --lights N`: the brute-force
- * reference render (host/reference.h, docs/reference.md), cached by content and settings, with
- * its own convergence (N vs 2N lights with another jitter seed) on stderr and in REF.exr.json. */
+/* cmd_reference.c: `strandlight reference SCENE.json -o REF.exr --lights N [--fragments]`: the
+ * brute-force reference render (host/reference.h, docs/reference.md), cached by content and
+ * settings, with its own convergence (N vs 2N lights; pixel mode with another jitter seed,
+ * fragment mode on the same fragments) on stderr and in REF.exr.json. */
 #include "cli.h"
 #include "reference.h"
 #include "scene.h"
@@ -20,8 +21,13 @@ static const char *usage_text =
     "Writes REF.exr (float: R G B A Z, MS.R/G/B = multiple scattering, R_mode.*, TT.*, TRT.* =\n"
     "single scattering by mode; premultiplied, A = coverage) and REF.exr.json (settings, time,\n"
     "cache key, convergence). A second run with the same inputs and settings reuses REF.exr.\n"
+    "--fragments: shade exactly the fast path's K-buffer entries (the view pass of `render`,\n"
+    "quality.oit_layers entries per pixel) and composite them with its weights, so coverage,\n"
+    "alpha and depth equal the fast path's and only the light cut is left as the reference's\n"
+    "own error (convergence: the same fragments at N vs 2N lights).\n"
     "  -o, --output FILE   EXR output (default out/reference.exr)\n"
     "  --lights N          directional lights (default 256)\n"
+    "  --fragments         fragment mode (above; --aa, --seed, --no-light-split unused)\n"
     "  --aa K              K x K jittered camera rays per pixel (default 2)\n"
     "  --seed S            jitter seed (default 1)\n"
     "  --no-light-split    every camera ray shades every light (default: the K x K rays of a\n"
@@ -81,6 +87,8 @@ int cmd_reference(int argc, char **argv) {
             force = 1;
         } else if (strcmp(argv[i], "--clamp-nonfinite") == 0) {
             set.clamp_nonfinite = 1;
+        } else if (strcmp(argv[i], "--fragments") == 0) {
+            set.fragments = 1;
         } else if (strcmp(argv[i], "--no-light-split") == 0) {
             set.light_split = 0;
         } else if (argv[i][0] == '-') {
@@ -105,14 +113,20 @@ int cmd_reference(int argc, char **argv) {
     }
     sl_reference_result r;
     if (sl_reference_run(s, &set, out, conv, &r, &e)) goto done;
-    sl_note("reference: %s%s (%d lights, aa %d, %s multiple scattering, %.2f s%s)",
-            r.cached ? "cached " : "", out, r.lights, set.aa, r.ms ? "with" : "without", r.time_s,
-            r.cached ? " when rendered" : "");
+    if (set.fragments)
+        sl_note("reference: %s%s (fragments: %.0f entries, K %d; %d lights, %s multiple "
+                "scattering, %.2f s%s)",
+                r.cached ? "cached " : "", out, r.entries, r.oit_k, r.lights,
+                r.ms ? "with" : "without", r.time_s, r.cached ? " when rendered" : "");
+    else
+        sl_note("reference: %s%s (%d lights, aa %d, %s multiple scattering, %.2f s%s)",
+                r.cached ? "cached " : "", out, r.lights, set.aa, r.ms ? "with" : "without",
+                r.time_s, r.cached ? " when rendered" : "");
     if (r.has_convergence)
         sl_note("reference: convergence: %d vs %d lights: rel RMSE %.4g, p99 rel err %.4g, "
-                "4x4 blocks %.4g (2N render with seed %llu: %.2f s)",
+                "4x4 blocks %.4g (2N render%s: %.2f s)",
                 set.lights, 2 * set.lights, r.conv_rel_rmse, r.conv_p99, r.conv_rel_rmse_4x4,
-                (unsigned long long)(set.seed + 1), r.time_2n_s);
+                set.fragments ? " of the same fragments" : " with seed + 1", r.time_2n_s);
     rc = 0;
 done:
     if (rc) fprintf(stderr, "strandlight: %s\n", e.msg);

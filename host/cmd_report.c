@@ -35,17 +35,26 @@ static void help(void) {
         "\n"
         "\n"
         "usage: strandlight report SCENE.json [--quick] [--tiny] [-o DIR] [--lights N] [--aa K]\n"
-        "                          [--width W] [--device SPEC|none] [--threads T]\n"
+        "                          [--frag-lights N] [--width W] [--device SPEC|none] "
+        "[--threads T]\n"
         "\n"
-        "SCENE.json: renders the brute-force reference once (cached in DIR/../.reference/), then\n"
-        "the fast pipeline over a sweep of settings (lobes, layers K, m, kappa, voxels, multiple\n"
-        "scattering, backend c/opencl) and writes DIR (default report/NAME): results.csv,\n"
-        "report.md (table, Pareto front, speed-ups) and error_vs_time.svg (docs/results.md).\n"
-        "  --quick            small sweep, 80 px wide, reference 256 lights aa 8 (minutes)\n"
-        "  --tiny             48 px wide, reference 8 lights aa 2, smallest sweep (CI)\n"
+        "SCENE.json: renders two brute-force references once (cached in DIR/../.reference/): the\n"
+        "pixel reference (camera rays) and the fragment reference (the fast path's own K-buffer\n"
+        "entries shaded by the reference: shading error only), then the fast pipeline over a\n"
+        "sweep of settings (lobes, layers K, m, kappa, voxels, multiple scattering, backend\n"
+        "c/opencl), each measured against both, and writes DIR (default report/NAME):\n"
+        "results.csv (rel_rmse...: pixel reference, rel_rmse_frag...: fragment reference),\n"
+        "report.md (table, Pareto fronts, speed-ups, the target) and error_vs_time.svg\n"
+        "(docs/results.md).\n"
+        "  --quick            small sweep, 80 px wide, pixel reference 256 lights aa 8, fragment\n"
+        "                     reference 32 lights (minutes)\n"
+        "  --tiny             48 px wide, references 8 lights (pixel: aa 2), smallest sweep (CI)\n"
+        "  (neither)          full sweep, 128 px wide, pixel reference 512 lights aa 12,\n"
+        "                     fragment reference 96 lights (~15 min for data/default.json)\n"
         "  -o DIR             report directory (replaced atomically)\n"
-        "  --lights N, --aa K reference settings (default by mode; full: 1024 lights, aa 16;\n"
-        "                     the K x K rays of a pixel share the N lights)\n"
+        "  --lights N, --aa K pixel reference settings (default by mode; the K x K rays of a\n"
+        "                     pixel share the N lights)\n"
+        "  --frag-lights N    fragment reference lights (default by mode)\n"
         "  --width W          image width (height keeps the scene's aspect)\n"
         "  --device SPEC      OpenCL device for the opencl rows (default: opencl); none: C only\n"
         "  --threads T        threads (default: every CPU)\n");
@@ -110,6 +119,9 @@ static int report_scene_args(int argc, char **argv, const char *scene) {
         else if (cli_opt(argc, argv, &i, "--lights", &v, &missing)) {
             if (cli_int("report", "--lights", v, 1, 100000, &n)) return 2;
             o.lights = (int)n;
+        } else if (cli_opt(argc, argv, &i, "--frag-lights", &v, &missing)) {
+            if (cli_int("report", "--frag-lights", v, 1, 100000, &n)) return 2;
+            o.frag_lights = (int)n;
         } else if (cli_opt(argc, argv, &i, "--aa", &v, &missing)) {
             if (cli_int("report", "--aa", v, 1, 16, &n)) return 2;
             o.aa = (int)n;

@@ -1,6 +1,7 @@
 /* reference.c: see reference.h. Loads what the reference needs (hair, map, N lights, camera
  * framed as `render` frames it), derives the cache key from the content (not the file names),
- * and drives cpu/reference/render_ref.c. */
+ * and drives cpu/reference/render_ref.c (pixel mode) or cpu/reference/render_ref_frag.c on the
+ * fast path's K-buffer (fragment mode, host/reference_frag.h). */
 #include "reference.h"
 
 #include "camera.h"
@@ -9,7 +10,9 @@
 #include "exr_cxx_shim.h"
 #include "hair.h"
 #include "image_write.h"
+#include "reference_frag.h"
 #include "render_ref.h"
+#include "render_ref_frag.h"
 #include "scene_hair.h"
 
 #include <cjson/cJSON.h>
@@ -20,6 +23,8 @@
 
 /* Bump when the reference's output changes for the same inputs (invalidates caches). */
 #define SL_REFERENCE_VERSION "reference-4"
+/* Fragment mode's own version (mixed into its keys only: pixel-mode caches stay valid). */
+#define SL_REFERENCE_FRAG_VERSION "fragments-1"
 
 void sl_reference_settings_default(sl_reference_settings *s) {
     memset(s, 0, sizeof *s);
@@ -40,9 +45,11 @@ typedef struct prep {
     slref_rt *rt;
     slref_ms_tables *mst;
     int threads;
+    sl_ref_kbuffer kb; /* fragment mode: the fast path's K-buffer */
 } prep;
 
 static void prep_free(prep *p) {
+    sl_ref_kbuffer_free(&p->kb);
     slref_ms_tables_free(p->mst);
     slref_rt_free(p->rt);
     sl_envmap_free(&p->map);
@@ -92,6 +99,10 @@ static int prepare(const sl_scene *s, const sl_reference_settings *set, prep *p,
     }
     long nproc = sysconf(_SC_NPROCESSORS_ONLN);
     p->threads = set->threads > 0 ? set->threads : (nproc > 0 ? (int)nproc : 1);
+    if (set->fragments && sl_ref_kbuffer_build(s, &p->hair, &p->cam, p->threads, &p->kb, e)) {
+        prep_free(p);
+        return -1;
+    }
     return 0;
 }
 
@@ -121,6 +132,18 @@ static uint64_t compute_key(const sl_scene *s, const sl_reference_settings *set,
                    c->fwd[2],   c->up[0],    c->up[1],  c->up[2],  c->right[0],
                    c->right[1], c->right[2], c->focal,  c->width,  c->height};
     h = hash_doubles(cv, sizeof cv / sizeof cv[0], h);
+    if (set->fragments) {
+        /* "fragments", K and what the view pass reads besides the geometry (transparency);
+         * aa, seed and the light split do not enter (no camera rays) */
+        h = sl_hash64(SL_REFERENCE_FRAG_VERSION, strlen(SL_REFERENCE_FRAG_VERSION), h);
+        if (hr->transparency)
+            h = sl_hash64(hr->transparency, (size_t)hr->num_points * sizeof(float), h);
+        else
+            h = sl_hash64(&hr->default_transparency, sizeof(float), h);
+        double fv[] = {p->kb.K,          set->lights, p->ms,      s->env_rotation_deg,
+                       s->env_intensity, SLREF_MS_DF, SLREF_MS_DB};
+        return hash_doubles(fv, sizeof fv / sizeof fv[0], h);
+    }
     double sv[] = {set->lights,         set->aa,          (double)set->seed, p->ms,
                    s->env_rotation_deg, s->env_intensity, SLREF_MS_DF,       SLREF_MS_DB,
                    set->light_split};
@@ -171,7 +194,13 @@ static int render_prepared(const sl_scene *s, const sl_reference_settings *set, 
     }
     double t0 = sl_now();
     slref_image img;
-    int rc = slref_render_split(&sh, &p->cam, &o, set->light_split, &img, e);
+    int rc;
+    if (set->fragments) {
+        slref_kbuf kb = {p->kb.w, p->kb.h, p->kb.K, p->kb.kbuf, p->kb.kcount};
+        rc = slref_render_frags(&sh, &p->hair, &kb, p->cam.eye, &o, &img, e);
+    } else {
+        rc = slref_render_split(&sh, &p->cam, &o, set->light_split, &img, e);
+    }
     if (set->progress) sl_progress_end(&pr);
     free(L);
     if (rc) return -1;
@@ -180,6 +209,7 @@ static int render_prepared(const sl_scene *s, const sl_reference_settings *set, 
     out->mode_rgb = img.mode_rgb;
     out->lights = nl;
     out->ms = p->ms;
+    out->fragments = set->fragments;
     out->time_s = sl_now() - t0;
     return 0;
 }
@@ -190,7 +220,8 @@ int sl_reference_render(const sl_scene *s, const sl_reference_settings *set,
     prep p;
     if (prepare(s, set, &p, e)) return -1;
     uint64_t key = compute_key(s, set, &p);
-    int rc = render_prepared(s, set, &p, set->lights, set->seed, "reference", out, e);
+    int rc = render_prepared(s, set, &p, set->lights, set->seed,
+                             set->fragments ? "reference (fragments)" : "reference", out, e);
     out->key = key;
     prep_free(&p);
     return rc;
@@ -317,6 +348,11 @@ static int write_json(const char *path, const sl_scene *s, const sl_reference_se
     cJSON_AddNumberToObject(ref, "seed", (double)set->seed);
     cJSON_AddBoolToObject(ref, "light_split", set->light_split);
     cJSON_AddBoolToObject(ref, "multiple_scattering", r->ms);
+    cJSON_AddBoolToObject(ref, "fragments", set->fragments);
+    if (set->fragments) {
+        cJSON_AddNumberToObject(ref, "oit_k", r->oit_k);
+        cJSON_AddNumberToObject(ref, "entries", r->entries);
+    }
     cJSON_AddNumberToObject(ref, "time_s", r->time_s);
     cJSON *mean = cJSON_AddArrayToObject(ref, "mean_rgb");
     for (int c = 0; c < 3; c++)
@@ -325,7 +361,7 @@ static int write_json(const char *path, const sl_scene *s, const sl_reference_se
     if (r->has_convergence) {
         cJSON *c = cJSON_AddObjectToObject(ref, "convergence");
         cJSON_AddNumberToObject(c, "lights_2n", 2 * set->lights);
-        cJSON_AddNumberToObject(c, "seed_2n", (double)(set->seed + 1));
+        if (!set->fragments) cJSON_AddNumberToObject(c, "seed_2n", (double)(set->seed + 1));
         cJSON_AddNumberToObject(c, "rel_rmse", r->conv_rel_rmse);
         cJSON_AddNumberToObject(c, "p99_rel_err", r->conv_p99);
         cJSON_AddNumberToObject(c, "rel_rmse_4x4", r->conv_rel_rmse_4x4);
@@ -377,6 +413,11 @@ static int read_cached(const char *json_path, const char *exr_path, uint64_t key
                 if (cJSON_IsNumber(cJSON_GetArrayItem(mv, c)))
                     r->mean_rgb[c] = cJSON_GetArrayItem(mv, c)->valuedouble;
             r->ms = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(ref, "multiple_scattering"));
+            r->fragments = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(ref, "fragments"));
+            if ((v = cJSON_GetObjectItemCaseSensitive(ref, "oit_k")) && cJSON_IsNumber(v))
+                r->oit_k = v->valueint;
+            if ((v = cJSON_GetObjectItemCaseSensitive(ref, "entries")) && cJSON_IsNumber(v))
+                r->entries = v->valuedouble;
             if (cJSON_IsObject(c)) {
                 r->has_convergence = 1;
                 if ((v = cJSON_GetObjectItemCaseSensitive(c, "rel_rmse")) && cJSON_IsNumber(v))
@@ -408,7 +449,15 @@ int sl_reference_run(const sl_scene *s, const sl_reference_settings *set, const 
     }
     sl_reference_frame f = {0}, f2 = {0};
     int rc = -1;
-    if (render_prepared(s, set, &p, set->lights, set->seed, "reference", &f, e)) goto done;
+    res->fragments = set->fragments;
+    res->oit_k = set->fragments ? p.kb.K : 0;
+    res->entries = (double)p.kb.entries;
+    if (set->fragments)
+        sl_note("reference: fragment mode: %.0f K-buffer entries (K %d) x %d lights", res->entries,
+                p.kb.K, set->lights);
+    if (render_prepared(s, set, &p, set->lights, set->seed,
+                        set->fragments ? "reference (fragments)" : "reference", &f, e))
+        goto done;
     res->lights = f.lights;
     res->ms = f.ms;
     res->time_s = f.time_s;
@@ -425,7 +474,11 @@ int sl_reference_run(const sl_scene *s, const sl_reference_settings *set, const 
          * see the light cut's error only, not the camera-ray sampling's, which dominates at
          * low resolution (two seeds at aa 2 differ by 0.71 rel. RMSE on the default scene at
          * 64 x 48; N vs 2N with one seed by 0.15: docs/results.md). */
-        if (render_prepared(s, set, &p, 2 * set->lights, set->seed + 1, "reference (2N lights)",
+        /* Fragment mode: the same fragments at 2N lights (no camera rays: the light cut's
+         * error alone, sample's median cut being deterministic). */
+        if (render_prepared(s, set, &p, 2 * set->lights, set->seed + 1,
+                            set->fragments ? "reference (fragments, 2N lights)"
+                                           : "reference (2N lights)",
                             &f2, e))
             goto done;
         sl_image_error(f.rgba, f2.rgba, f.width, f.height, &res->conv_rel_rmse, NULL,
@@ -469,6 +522,7 @@ int sl_reference_load(const char *exr_path, sl_reference_frame *out, sl_err *e) 
     if ((v = cJSON_GetObjectItemCaseSensitive(ref, "time_s")) && cJSON_IsNumber(v))
         out->time_s = v->valuedouble;
     out->ms = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(ref, "multiple_scattering"));
+    out->fragments = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(ref, "fragments"));
     out->key = strtoull(k->valuestring, NULL, 16);
     cJSON_Delete(root);
     if (sl_read_file(exr_path, &data, &size, (size_t)1 << 34, e)) return -1;

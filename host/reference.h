@@ -29,9 +29,12 @@ typedef struct sl_reference_settings {
     int progress;        /* 1: progress bar with ETA on stderr (when it is a terminal) */
     int clamp_nonfinite; /* environment map: replace NaN/Inf by 0 instead of failing */
     int light_split;     /* 1: the aa x aa rays of a pixel share the lights (slref_render_opts) */
+    int fragments;       /* 1: fragment mode (docs/reference.md): shade the fast path's K-buffer
+                            entries (cpu/reference/render_ref_frag.h) instead of camera rays;
+                            aa, seed and light_split are then unused */
 } sl_reference_settings;
 
-/* 256 lights, aa 2, seed 1, light_split on */
+/* 256 lights, aa 2, seed 1, light_split on, pixel mode */
 void sl_reference_settings_default(sl_reference_settings *s);
 
 typedef struct sl_reference_frame {
@@ -43,6 +46,7 @@ typedef struct sl_reference_frame {
                         orders 0, 1, 2), premultiplied */
     int lights;      /* lights actually used (fewer than asked when the map is tiny) */
     int ms;          /* 1 when multiple scattering was included */
+    int fragments;   /* 1: fragment mode */
     double time_s;   /* render time (without loading) */
     uint64_t key;    /* cache key: scene content + settings (sl_reference_key) */
 } sl_reference_frame;
@@ -86,10 +90,14 @@ typedef struct sl_reference_result {
     double conv_p99;
     double conv_rel_rmse_4x4; /* the same on 4 x 4 blocks (sl_image_error_blocks) */
     double time_2n_s;
+    int fragments;  /* 1: fragment mode (JSON "fragments") */
+    int oit_k;      /* fragment mode: K-buffer entries per pixel (JSON "oit_k") */
+    double entries; /* fragment mode: K-buffer entries shaded (JSON "entries") */
 } sl_reference_result;
 
 /* Renders at set->lights (and, with convergence, at 2N lights with jitter seed + 1 to measure
- * the N image's own error: light cut and camera-ray sampling together),
+ * the N image's own error: light cut and camera-ray sampling together; in fragment mode the same
+ * fragments at 2N lights: the light cut alone),
  * writes exr_path + exr_path.json; when both exist with the same key (and convergence when
  * asked), nothing is rendered and res comes from the JSON. */
 int sl_reference_run(const sl_scene *s, const sl_reference_settings *set, const char *exr_path,

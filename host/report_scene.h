@@ -1,7 +1,11 @@
 /* report_scene.h: `strandlight report SCENE.json` (issue 10, second half): the brute-force
  * reference of the scene (host/reference.h, cached by its own key) against the fast pipeline
- * (host/frame.h) over a sweep of settings, written to a report directory:
- *   results.csv        one row per run (the reference is the row with backend "reference")
+ * (host/frame.h) over a sweep of settings, written to a report directory. Two references: the
+ * pixel reference (camera rays, its own coverage) and the fragment reference (the fast path's
+ * own K-buffer entries shaded by the reference, host/reference.h fragments: only the shading is
+ * compared); every run is measured against both (columns rel_rmse... and rel_rmse_frag...).
+ *   results.csv        one row per run (the references are the rows with backend "reference"
+ *                      and "reference_fragments")
  *   report.md          table, Pareto front, the reference's settings and time, speed-ups
  *   error_vs_time.svg  rel. RMSE against run time, log-log, front highlighted
  * Errors are numerics.md sec. 6 (sl_image_error). The directory appears complete or not at all
@@ -17,7 +21,8 @@ typedef struct sl_report_scene_opts {
     int quick;           /* small sweep, smaller reference (a few minutes) */
     int tiny;            /* small image for CI (seconds) */
     const char *opencl;  /* device spec for the opencl rows (NULL: "opencl"), "none": C only */
-    int lights, aa;      /* reference settings, 0: by mode */
+    int lights, aa;      /* pixel reference settings, 0: by mode */
+    int frag_lights;     /* fragment reference lights, 0: by mode */
     int width;           /* image width, 0: by mode (height keeps the scene's aspect) */
     int threads;         /* 0: every CPU */
 } sl_report_scene_opts;

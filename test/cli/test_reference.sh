@@ -2,7 +2,10 @@
 # strands, a 16x8 sky map cut into 4 lights): it writes a float EXR with the documented
 # channels and a JSON record with the convergence (4 vs 8 lights), a second run reuses the
 # cached result (no render), the image does not depend on the thread count, and bad input gives
-# a one-line error and no output file. The numerics are checked by unit_tests reference_.
+# a one-line error and no output file. --fragments (fragment mode): writes the EXR and a JSON
+# with "fragments": true and its convergence on the same fragments, is cached under its own key
+# (not the pixel mode's), the same for 1 and 3 threads, and fails with one line without a map.
+# The numerics are checked by unit_tests reference_ and reffrag_.
 . test/cli/lib.sh
 . test/cli/reference_lib.sh
 ref_setup reference
@@ -67,6 +70,32 @@ else
     fail reference_ms_runs "$(cat "$D/stderr")"
 fi
 
+# Fragment mode.
+if run "$D/scene.json" -o "$D/f/ref.exr" --fragments --lights 4 --threads 1 \
+    && grep -q "convergence: 4 vs 8 lights" "$D/stderr" && grep -q "fragments:" "$D/stderr" \
+    && grep -Eq '"fragments":[[:space:]]*true' "$D/f/ref.exr.json" && grep -q '"oit_k"' "$D/f/ref.exr.json"; then
+    pass reference_fragments_runs
+else
+    fail reference_fragments_runs "$(cat "$D/stderr")"
+fi
+if run "$D/scene.json" -o "$D/f/ref.exr" --fragments --lights 4 --threads 2 && grep -q "cached" "$D/stderr"; then
+    pass reference_fragments_cached
+else
+    fail reference_fragments_cached "$(cat "$D/stderr")"
+fi
+# the pixel-mode record at the same path is not a fragment-mode cache hit (and vice versa)
+if run "$D/scene.json" -o "$D/f/ref.exr" --lights 4 --no-convergence && ! grep -q "cached" "$D/stderr"; then
+    pass reference_fragments_own_key
+else
+    fail reference_fragments_own_key "$(cat "$D/stderr")"
+fi
+run "$D/scene.json" -o "$D/f1.exr" --fragments --lights 4 --threads 1 --no-convergence
+run "$D/scene.json" -o "$D/f3.exr" --fragments --lights 4 --threads 3 --no-convergence
+if [ -s "$D/f1.exr" ] && cmp -s "$D/f1.exr" "$D/f3.exr"; then pass reference_fragments_threads_identical; else fail reference_fragments_threads_identical "f1.exr and f3.exr differ"; fi
+expect_error reference_fragments_needs_map "environment.file: the reference needs an environment map" "$SL" reference "$D/nomap.json" --fragments -o "$D/xf.exr"
+[ -e "$D/xf.exr" ] && fail reference_fragments_no_output_on_error "xf.exr written" || pass reference_fragments_no_output_on_error
+expect_output reference_help_fragments "--fragments" "$SL" reference --help
+
 expect_error reference_needs_map "environment.file: the reference needs an environment map" "$SL" reference "$D/nomap.json" -o "$D/x.exr"
 [ -e "$D/x.exr" ] && fail reference_no_output_on_error "x.exr written" || pass reference_no_output_on_error
 expect_error reference_bad_scene "bogus" "$SL" reference "$D/badkey.json" -o "$D/y.exr"
@@ -77,3 +106,4 @@ if [ "$rc" = 2 ]; then pass reference_usage_lights; else fail reference_usage_li
 expect_output reference_help "--lights N" "$SL" reference --help
 no_leftovers reference_no_temporaries "$D"
 no_leftovers reference_no_temporaries_a "$D/a"
+no_leftovers reference_no_temporaries_f "$D/f"

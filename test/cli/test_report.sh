@@ -4,7 +4,11 @@
 # error_vs_time.svg (rel_rmse_4x4 column included), the CSV has the documented columns and the
 # reference row, every error is finite, a second run reuses the cached reference (same
 # reference time), nothing temporary is left, and a bad scene gives a one-line error and no
-# report directory. The error metric itself is checked by unit_tests reference_ (sl_image_error).
+# report directory. The fragment reference (8 lights): its row reference_fragments (time, own
+# N-vs-2N error), the rel_rmse_frag* and pareto_frag columns finite on every fast run, its
+# image, its front and target sentences in report.md, its markers in the SVG, cached too.
+# The error metric itself is checked by unit_tests reference_ (sl_image_error), the fragment
+# reference's shading by unit_tests reffrag_.
 . test/cli/lib.sh
 D="$TMP/report"
 rm -rf "$D"
@@ -36,6 +40,32 @@ if run "$D/small.json" --quick --tiny -o "$D/out/small" --threads 2 --device non
         printf '%s\n' "$hdr" | tr ',' '\n' | grep -qx "$c" || { fail report_csv_columns "no column $c in: $hdr"; ok=0; }
     done
     [ "$ok" = 1 ] && pass report_csv_columns
+    ok=1
+    for c in rel_rmse_frag p99_frag rel_rmse_frag_R rel_rmse_frag_TT rel_rmse_frag_TRT rel_rmse_frag_MS pareto_frag; do
+        printf '%s\n' "$hdr" | tr ',' '\n' | grep -qx "$c" || { fail report_csv_frag_columns "no column $c in: $hdr"; ok=0; }
+    done
+    [ "$ok" = 1 ] && pass report_csv_frag_columns
+    # one reference_fragments row with a finite time and own error (in rel_rmse and
+    # rel_rmse_frag); every fast run (c/opencl) has a finite rel_rmse_frag, p99_frag and
+    # per-mode frag errors; at least one run is on the fragment front
+    awk -F, 'function num(v) { return v ~ /^[0-9.]+(e[-+]?[0-9]+)?$/ }
+        NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+        $col["backend"] == "reference_fragments" { fr++
+            if (!num($col["time_s"]) || !num($col["rel_rmse_frag"]) || !num($col["rel_rmse"]) || $col["lights"] != 8) bad = bad " fragrow" }
+        $col["backend"] == "c" || $col["backend"] == "opencl" { runs++
+            for (k = 0; k < 5; k++) { n = (k == 0 ? "rel_rmse_frag" : k == 1 ? "p99_frag" : k == 2 ? "rel_rmse_frag_R" : k == 3 ? "rel_rmse_frag_TT" : "rel_rmse_frag_TRT")
+                if (!num($col[n])) bad = bad " " NR ":" n "=" $col[n] }
+            if ($col["pareto_frag"] == 1) front++ }
+        END { if (fr != 1) { print "reference_fragments rows: " fr; exit 1 }
+              if (front < 1) { print "no run on the fragment front"; exit 1 }
+              if (bad != "") { print "bad:" bad; exit 1 } }' "$csv" >"$D/awk2.out" \
+        && pass report_csv_fragment_row || fail report_csv_fragment_row "$(cat "$D/awk2.out")"
+    if grep -q "Pareto front on the fragment metric" "$D/out/small/report.md" \
+        && grep -q "Against the fragment reference" "$D/out/small/report.md" \
+        && grep -q "Against the pixel reference" "$D/out/small/report.md" \
+        && [ -s "$D/out/small/reference_fragments.png" ] \
+        && grep -q "#9467bd" "$D/out/small/error_vs_time.svg"; then pass report_fragment_outputs
+    else fail report_fragment_outputs "report.md sections, reference_fragments.png or svg markers missing"; fi
     # the reference row (backend reference) and at least 4 fast runs; every time and error
     # finite and >= 0 (awk: a number matches the regex; nan/inf/empty do not)
     awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
@@ -62,9 +92,9 @@ if run "$D/small.json" --quick --tiny -o "$D/out/small" --threads 2 --device non
     no_leftovers report_no_temp_files "$D/out"
     ls "$D/out" | grep -q '\.tmp\.' && fail report_no_temp_dir "$(ls "$D/out")" || pass report_no_temp_dir
     # second run: the reference comes from the cache, so its row (time from the JSON) is equal
-    reft1=$(grep '^reference,' "$csv")
+    reft1=$(grep '^reference' "$csv")
     if run "$D/small.json" --tiny --quick -o "$D/out/small" --threads 2 --device none; then
-        reft2=$(grep '^reference,' "$csv")
+        reft2=$(grep '^reference' "$csv")
         [ "$reft1" = "$reft2" ] && pass report_reference_cached || fail report_reference_cached "$reft1 != $reft2"
     else
         fail report_reference_cached "second run: $(tail -2 "$D/stderr")"
