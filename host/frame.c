@@ -834,13 +834,21 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
         if (!r->have_vms || r->vms_key != dk) {
             if (r->have_vms) sl_volume_ms_free(&r->vms);
             r->have_vms = 0;
+            t0 = sl_now();
             if (sl_volume_ms_init(mat, &r->vms, e)) goto done;
             r->have_vms = 1;
             r->vms_key = dk;
+            sl_frame_pass(r, "ms table", SL_PASS_RUN, sl_now() - t0,
+                          "multiple-scattering response tables of the material (%.2f s of it "
+                          "the response table, docs/volume.md)",
+                          r->vms.table_s);
+        } else {
+            sl_frame_pass(r, "ms table", SL_PASS_CACHED, 0, "material unchanged");
         }
     } else {
         sl_frame_pass(r, "dual", SL_PASS_SKIPPED, 0, "no multiple scattering");
         sl_frame_pass(r, "volume", SL_PASS_SKIPPED, 0, "no multiple scattering");
+        sl_frame_pass(r, "ms table", SL_PASS_SKIPPED, 0, "no multiple scattering");
     }
 
     /* view pass */

@@ -140,12 +140,14 @@ TEST(frame_planner_camera_move_reuses_light) {
     CHECK(frame_tiny_render(&r, &t, &a) == 0);
     CHECK(frame_pass_state(&r, "light") == SL_PASS_RUN);
     CHECK(frame_pass_state(&r, "volume") == SL_PASS_RUN);
+    CHECK(frame_pass_state(&r, "ms table") == SL_PASS_RUN);
     CHECK(frame_pass_state(&r, "view") == SL_PASS_RUN);
     /* camera move: no light pass, no volume pass, the view pass re-runs */
     t.cam.eye[0] += 3.0;
     CHECK(frame_tiny_render(&r, &t, &b) == 0);
     CHECK(frame_pass_state(&r, "light") == SL_PASS_CACHED);
     CHECK(frame_pass_state(&r, "volume") == SL_PASS_CACHED);
+    CHECK(frame_pass_state(&r, "ms table") == SL_PASS_CACHED);
     CHECK(frame_pass_state(&r, "view") == SL_PASS_RUN);
     /* material edit: neither light nor view re-runs, the image changes */
     t.s.material.sigma_a[0] = 2.0;
@@ -178,6 +180,7 @@ TEST(frame_planner_dark_hair_skips_ms) {
     CHECK(frame_tiny_render(&r, &t, &a) == 0);
     CHECK(frame_pass_state(&r, "ms") == SL_PASS_SKIPPED);
     CHECK(frame_pass_state(&r, "volume") == SL_PASS_SKIPPED);
+    CHECK(frame_pass_state(&r, "ms table") == SL_PASS_SKIPPED);
     double ms = 0;
     for (int i = 0; i < 64 * 48 * 3; i++)
         ms += a.mode[3][i];
