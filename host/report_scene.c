@@ -40,6 +40,9 @@ typedef struct run_cfg {
     int lobes, layers, m, voxels;
     double kappa;
     int ms; /* SL_MS_ON / SL_MS_OFF / SL_MS_AUTO (asked) */
+    /* diagnostics (full mode): frag_rate 1 = quality.shading_rate "fragment" (else the scene's),
+     * split 1 = quality.broad_lobes "split" (else the scene's, default subdivide) */
+    int frag_rate, split;
 } run_cfg;
 
 typedef struct run_res {
@@ -50,6 +53,7 @@ typedef struct run_res {
     double rel_rmse_4x4; /* rel. RMSE of 4 x 4 pixel block means (sl_image_error_blocks) */
     /* against the fragment reference (NAN when it was not rendered): rel. RMSE, p99, AOVs */
     double rel_rmse_frag, p99_frag, aov_frag[4];
+    double rel_rmse_frag_4x4; /* the same on 4 x 4 block means */
     int pareto;
     int pareto_frag; /* on the Pareto front of (time, rel_rmse_frag) */
     int index;       /* run number, 1-based (heat_NN.png) */
@@ -66,7 +70,8 @@ typedef struct lobeset {
 static int cfg_equal(const run_cfg *a, const run_cfg *b) {
     return a->opencl == b->opencl && a->method == b->method && a->lobes == b->lobes &&
            a->layers == b->layers && a->m == b->m && a->voxels == b->voxels &&
-           a->kappa == b->kappa && a->ms == b->ms;
+           a->kappa == b->kappa && a->ms == b->ms && a->frag_rate == b->frag_rate &&
+           a->split == b->split;
 }
 
 static int add_cfg(run_cfg *list, int n, run_cfg c) {
@@ -81,7 +86,7 @@ static int add_cfg(run_cfg *list, int n, run_cfg c) {
 static int make_sweep(const sl_scene *s, int quick, int tiny, int have_cl, int lobes_fixed,
                       run_cfg *list) {
     run_cfg base = {0,        SL_SRBF_METHOD_FAST,   s->lobes, s->layers, s->segments_m, s->voxels,
-                    s->kappa, s->multiple_scattering};
+                    s->kappa, s->multiple_scattering, 0, 0};
     int n = 0;
     run_cfg c;
     n = add_cfg(list, n, base);
@@ -134,6 +139,14 @@ static int make_sweep(const sl_scene *s, int quick, int tiny, int have_cl, int l
         if (!lobes_fixed) rich.lobes = lob[nlob - 1];
         rich.layers = 8, rich.method = SL_SRBF_METHOD_XU, rich.m = 8, rich.ms = SL_MS_ON;
         n = add_cfg(list, n, rich);
+    }
+    if (!tiny && !quick) {
+        /* what the fragment metric needs to tell apart: vertex-rate interpolation (auto picks
+         * vertex shading when segments project short) and the broad-lobe subdivision */
+        c = base, c.frag_rate = 1;
+        n = add_cfg(list, n, c);
+        c = base, c.split = 1;
+        n = add_cfg(list, n, c);
     }
     if (have_cl) {
         c = base, c.opencl = 1;
@@ -229,12 +242,15 @@ static void measure(const sl_fbuf *f, const sl_reference_frame *ref,
                     const sl_reference_frame *ref_frag, int model, run_res *out) {
     measure_one(f, ref, model, out->ms_on, &out->rel_rmse, &out->p99, out->aov);
     sl_image_error_blocks(f->rgba, ref->rgba, f->width, f->height, 4, &out->rel_rmse_4x4, NULL);
-    out->rel_rmse_frag = out->p99_frag = NAN;
+    out->rel_rmse_frag = out->p99_frag = out->rel_rmse_frag_4x4 = NAN;
     for (int k = 0; k < 4; k++)
         out->aov_frag[k] = NAN;
-    if (ref_frag)
+    if (ref_frag) {
         measure_one(f, ref_frag, model, out->ms_on, &out->rel_rmse_frag, &out->p99_frag,
                     out->aov_frag);
+        sl_image_error_blocks(f->rgba, ref_frag->rgba, f->width, f->height, 4,
+                              &out->rel_rmse_frag_4x4, NULL);
+    }
 }
 
 /* The error a front or a speed-up table is over: per pixel, 4x4 blocks (pixel reference) or
@@ -287,8 +303,9 @@ static int write_csv(const char *path, const run_res *r, int n, const sl_referen
     fprintf(f, "backend,method,lobes,layers,m,kappa,voxels,ms,time_s,rel_rmse,p99_rel_err,"
                "rel_rmse_4x4,rel_rmse_R,rel_rmse_TT,rel_rmse_TRT,rel_rmse_MS,lights,aa,width,"
                "height,pareto,rel_rmse_frag,p99_frag,rel_rmse_frag_R,rel_rmse_frag_TT,"
-               "rel_rmse_frag_TRT,rel_rmse_frag_MS,pareto_frag\n");
-    fprintf(f, "reference,exact,,,,,,%s,%.6g,%.6g,%.6g,%.6g,,,,,%d,%d,%d,%d,0,,,,,,,0\n",
+               "rel_rmse_frag_TRT,rel_rmse_frag_MS,pareto_frag,rel_rmse_frag_4x4,shading_rate,"
+               "broad_lobes\n");
+    fprintf(f, "reference,exact,,,,,,%s,%.6g,%.6g,%.6g,%.6g,,,,,%d,%d,%d,%d,0,,,,,,,0,,,\n",
             rr->ms ? "on" : "off", rr->time_s, rr->has_convergence ? rr->conv_rel_rmse : NAN,
             rr->has_convergence ? rr->conv_p99 : NAN,
             rr->has_convergence ? rr->conv_rel_rmse_4x4 : NAN, rr->lights, aa, w, h);
@@ -296,28 +313,30 @@ static int write_csv(const char *path, const run_res *r, int n, const sl_referen
         fprintf(
             f,
             "reference_fragments,exact,,,,,,%s,%.6g,%.6g,%.6g,%.6g,,,,,%d,,%d,%d,0,%.6g,%.6g,,,,"
-            ",0\n",
+            ",0,%.6g,,\n",
             rf->ms ? "on" : "off", rf->time_s, rf->has_convergence ? rf->conv_rel_rmse : NAN,
             rf->has_convergence ? rf->conv_p99 : NAN,
             rf->has_convergence ? rf->conv_rel_rmse_4x4 : NAN, rf->lights, w, h,
-            rf->has_convergence ? rf->conv_rel_rmse : NAN,
-            rf->has_convergence ? rf->conv_p99 : NAN);
+            rf->has_convergence ? rf->conv_rel_rmse : NAN, rf->has_convergence ? rf->conv_p99 : NAN,
+            rf->has_convergence ? rf->conv_rel_rmse_4x4 : NAN);
     for (int i = 0; i < n; i++) {
-        char a[4][32], fa[6][32];
+        char a[4][32], fa[7][32];
         for (int k = 0; k < 4; k++) {
             fmt_num(a[k], sizeof a[k], r[i].aov[k]);
             fmt_num(fa[2 + k], sizeof fa[2 + k], r[i].aov_frag[k]);
         }
         fmt_num(fa[0], sizeof fa[0], r[i].rel_rmse_frag);
         fmt_num(fa[1], sizeof fa[1], r[i].p99_frag);
+        fmt_num(fa[6], sizeof fa[6], r[i].rel_rmse_frag_4x4);
         fprintf(f,
                 "%s,%s,%d,%d,%d,%.6g,%d,%s,%.6g,%.6g,%.6g,%.6g,%s,%s,%s,%s,,,%d,%d,%d,%s,%s,%s,%s,"
-                "%s,%s,%d\n",
+                "%s,%s,%d,%s,%s,%s\n",
                 r[i].c.opencl ? "opencl" : "c", method_name(r[i].c.method), r[i].c.lobes,
                 r[i].c.layers, r[i].c.method == SL_SRBF_METHOD_XU ? r[i].c.m : 0, r[i].c.kappa,
                 r[i].c.voxels, r[i].ms_on ? "on" : "off", r[i].time_s, r[i].rel_rmse, r[i].p99,
                 r[i].rel_rmse_4x4, a[0], a[1], a[2], a[3], w, h, r[i].pareto, fa[0], fa[1], fa[2],
-                fa[3], fa[4], fa[5], r[i].pareto_frag);
+                fa[3], fa[4], fa[5], r[i].pareto_frag, fa[6],
+                r[i].c.frag_rate ? "fragment" : "scene", r[i].c.split ? "split" : "scene");
     }
     return sl_atomic_commit(&af, e);
 }
@@ -328,10 +347,11 @@ static int cmp_time(const void *a, const void *b) {
 }
 
 static void run_settings(FILE *f, const run_res *r) {
-    fprintf(f, "%s %s, %d lobes, K=%d, m=%d, kappa %g, voxels %d, MS %s",
+    fprintf(f, "%s %s, %d lobes, K=%d, m=%d, kappa %g, voxels %d, MS %s%s%s",
             r->c.opencl ? "opencl" : "c", method_name(r->c.method), r->c.lobes, r->c.layers,
             r->c.method == SL_SRBF_METHOD_XU ? r->c.m : 0, r->c.kappa, r->c.voxels,
-            r->ms_on ? "on" : "off");
+            r->ms_on ? "on" : "off", r->c.frag_rate ? ", shading_rate fragment" : "",
+            r->c.split ? ", broad_lobes split" : "");
 }
 
 /* The fastest run (s sorted by time) with error <= level on metric `which`, -1 if none. */
@@ -419,14 +439,14 @@ static int write_md(const char *path, const char *scene, const run_res *r, int n
     fprintf(f, "## Runs (sorted by time; * = Pareto front per pixel, f = front on frag)\n\n");
     fprintf(f, "| | backend | method | lobes | layers | m | kappa | voxels | MS | time s | rel. "
                "RMSE | p99 | 4x4 | R | TT | TRT | MS err | speed-up | frag | frag p99 | frag R | "
-               "frag TT | frag TRT | frag MS |\n");
+               "frag TT | frag TRT | frag MS | frag 4x4 | other |\n");
     fprintf(f, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
-               "---|---|---|---|\n");
+               "---|---|---|---|---|---|\n");
     run_res *s = sl_malloc(sizeof(run_res) * (size_t)(n > 0 ? n : 1));
     memcpy(s, r, sizeof(run_res) * (size_t)n);
     qsort(s, (size_t)n, sizeof *s, cmp_time);
     for (int i = 0; i < n; i++) {
-        char a[4][32], fa[6][32];
+        char a[4][32], fa[7][32];
         for (int k = 0; k < 4; k++) {
             fmt_num(a[k], sizeof a[k], s[i].aov[k]);
             if (!a[k][0]) snprintf(a[k], sizeof a[k], "-");
@@ -434,7 +454,8 @@ static int write_md(const char *path, const char *scene, const run_res *r, int n
         }
         fmt_num(fa[0], sizeof fa[0], s[i].rel_rmse_frag);
         fmt_num(fa[1], sizeof fa[1], s[i].p99_frag);
-        for (int k = 0; k < 6; k++)
+        fmt_num(fa[6], sizeof fa[6], s[i].rel_rmse_frag_4x4);
+        for (int k = 0; k < 7; k++)
             if (!fa[k][0]) snprintf(fa[k], sizeof fa[k], "-");
         char m[16];
         if (s[i].c.method == SL_SRBF_METHOD_XU)
@@ -443,13 +464,14 @@ static int write_md(const char *path, const char *scene, const run_res *r, int n
             snprintf(m, sizeof m, "-");
         fprintf(f,
                 "| %s%s | %s | %s | %d | %d | %s | %g | %d | %s | %.3f | %.4f | %.3f | %.4f | %s | "
-                "%s | %s | %s | %.3g | %s | %s | %s | %s | %s | %s |\n",
+                "%s | %s | %s | %.3g | %s | %s | %s | %s | %s | %s | %s | %s%s%s |\n",
                 s[i].pareto ? "*" : "", s[i].pareto_frag ? "f" : "", s[i].c.opencl ? "opencl" : "c",
                 method_name(s[i].c.method), s[i].c.lobes, s[i].c.layers, m, s[i].c.kappa,
                 s[i].c.voxels, s[i].ms_on ? "on" : "off", s[i].time_s, s[i].rel_rmse, s[i].p99,
                 s[i].rel_rmse_4x4, a[0], a[1], a[2], a[3],
                 s[i].time_s > 0 ? rr->time_s / s[i].time_s : 0.0, fa[0], fa[1], fa[2], fa[3], fa[4],
-                fa[5]);
+                fa[5], fa[6], s[i].c.frag_rate ? "rate fragment" : "",
+                s[i].c.frag_rate && s[i].c.split ? ", " : "", s[i].c.split ? "broad split" : "");
     }
     fprintf(f, "\n## Pareto front (time against rel. RMSE)\n\nPlot: error_vs_time.svg; "
                "reference images: reference.png (pixel), reference_fragments.png; error heat "
@@ -838,6 +860,8 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
         sl_scene sc = *s;
         sc.lobes = c.lobes, sc.layers = c.layers, sc.segments_m = c.m, sc.voxels = c.voxels;
         sc.kappa = c.kappa, sc.multiple_scattering = c.ms;
+        if (c.frag_rate) snprintf(sc.shading_rate, sizeof sc.shading_rate, "fragment");
+        if (c.split) sc.broad_lobes = SL_BROAD_SPLIT;
         sl_render_opts ro;
         sl_render_opts_default(&ro);
         ro.srbf_method = c.method, ro.segments = c.m, ro.threads = o->threads, ro.quiet = 1;

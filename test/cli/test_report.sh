@@ -41,7 +41,7 @@ if run "$D/small.json" --quick --tiny -o "$D/out/small" --threads 2 --device non
     done
     [ "$ok" = 1 ] && pass report_csv_columns
     ok=1
-    for c in rel_rmse_frag p99_frag rel_rmse_frag_R rel_rmse_frag_TT rel_rmse_frag_TRT rel_rmse_frag_MS pareto_frag; do
+    for c in rel_rmse_frag p99_frag rel_rmse_frag_R rel_rmse_frag_TT rel_rmse_frag_TRT rel_rmse_frag_MS pareto_frag rel_rmse_frag_4x4 shading_rate broad_lobes; do
         printf '%s\n' "$hdr" | tr ',' '\n' | grep -qx "$c" || { fail report_csv_frag_columns "no column $c in: $hdr"; ok=0; }
     done
     [ "$ok" = 1 ] && pass report_csv_frag_columns
@@ -53,7 +53,7 @@ if run "$D/small.json" --quick --tiny -o "$D/out/small" --threads 2 --device non
         $col["backend"] == "reference_fragments" { fr++
             if (!num($col["time_s"]) || !num($col["rel_rmse_frag"]) || !num($col["rel_rmse"]) || $col["lights"] != 8) bad = bad " fragrow" }
         $col["backend"] == "c" || $col["backend"] == "opencl" { runs++
-            for (k = 0; k < 5; k++) { n = (k == 0 ? "rel_rmse_frag" : k == 1 ? "p99_frag" : k == 2 ? "rel_rmse_frag_R" : k == 3 ? "rel_rmse_frag_TT" : "rel_rmse_frag_TRT")
+            for (k = 0; k < 6; k++) { n = (k == 0 ? "rel_rmse_frag" : k == 1 ? "p99_frag" : k == 2 ? "rel_rmse_frag_R" : k == 3 ? "rel_rmse_frag_TT" : k == 4 ? "rel_rmse_frag_TRT" : "rel_rmse_frag_4x4")
                 if (!num($col[n])) bad = bad " " NR ":" n "=" $col[n] }
             if ($col["pareto_frag"] == 1) front++ }
         END { if (fr != 1) { print "reference_fragments rows: " fr; exit 1 }
