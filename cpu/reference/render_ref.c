@@ -324,34 +324,42 @@ int slref_render_split(const slref_shading *sh, const sl_camera *cam, const slre
     if (cam->width < 1 || cam->height < 1 || o->aa < 1)
         return sl_fail(e, "reference: bad image size or sampling (%dx%d, aa %d)", cam->width,
                        cam->height, o->aa);
-    size_t n = (size_t)cam->width * cam->height;
-    out->w = cam->width, out->h = cam->height;
-    out->rgba = sl_calloc(4 * n, sizeof(float));
-    out->depth = sl_malloc(n * sizeof(float));
-    out->ms_rgb = sl_calloc(3 * n, sizeof(float));
-    out->mode_rgb = sl_calloc(9 * n, sizeof(float));
+    slref_image_alloc(out, cam->width, cam->height);
     render_job j = {.sh = sh, .cam = cam, .o = o, .light_split = light_split, .img = out};
     atomic_init(&j.next_row, 0);
     atomic_init(&j.rows_done, 0);
+    slref_run_rows(render_thread, &j, &j.rows_done, cam->height, o);
+    return 0;
+}
+
+void slref_image_alloc(slref_image *img, int w, int h) {
+    size_t n = (size_t)w * h;
+    img->w = w, img->h = h;
+    img->rgba = sl_calloc(4 * n, sizeof(float));
+    img->depth = sl_malloc(n * sizeof(float));
+    img->ms_rgb = sl_calloc(3 * n, sizeof(float));
+    img->mode_rgb = sl_calloc(9 * n, sizeof(float));
+}
+
+void slref_run_rows(void *(*fn)(void *), void *job, atomic_int *rows_done, int rows,
+                    const slref_render_opts *o) {
     int threads = o->threads < 1 ? 1 : (o->threads > 256 ? 256 : o->threads);
     pthread_t tid[256];
     int started = 0;
     for (int i = 0; i < threads; i++)
-        if (pthread_create(&tid[started], NULL, render_thread, &j) == 0) started++;
+        if (pthread_create(&tid[started], NULL, fn, job) == 0) started++;
     if (started == 0) {
-        render_thread(&j); /* no thread could start: render here */
+        fn(job); /* no thread could start: work here */
     } else {
         struct timespec ts = {0, 100 * 1000 * 1000};
-        while (atomic_load(&j.rows_done) < cam->height) {
-            if (o->progress)
-                o->progress(o->progress_user, (double)atomic_load(&j.rows_done) / cam->height);
+        while (atomic_load(rows_done) < rows) {
+            if (o->progress) o->progress(o->progress_user, (double)atomic_load(rows_done) / rows);
             nanosleep(&ts, NULL);
         }
         for (int i = 0; i < started; i++)
             pthread_join(tid[i], NULL);
     }
     if (o->progress) o->progress(o->progress_user, 1.0);
-    return 0;
 }
 
 void slref_image_free(slref_image *img) {

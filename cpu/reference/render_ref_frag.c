@@ -94,34 +94,12 @@ int slref_render_frags(const slref_shading *sh, const sl_hair *h, const slref_kb
     memset(out, 0, sizeof *out);
     if (kb->w < 1 || kb->h < 1 || kb->K < 1 || kb->K > SL_KBUFFER_MAX)
         return sl_fail(e, "reference: bad K-buffer (%dx%d, K %d)", kb->w, kb->h, kb->K);
-    size_t n = (size_t)kb->w * kb->h;
-    out->w = kb->w, out->h = kb->h;
-    out->rgba = sl_calloc(4 * n, sizeof(float));
-    out->depth = sl_malloc(n * sizeof(float));
-    out->ms_rgb = sl_calloc(3 * n, sizeof(float));
-    out->mode_rgb = sl_calloc(9 * n, sizeof(float));
+    slref_image_alloc(out, kb->w, kb->h);
     uint32_t *strand_of = slref_frag_strand_of(h);
     frag_job j = {.sh = sh, .h = h, .strand_of = strand_of, .kb = kb, .eye = eye, .img = out};
     atomic_init(&j.next_row, 0);
     atomic_init(&j.rows_done, 0);
-    int threads = o->threads < 1 ? 1 : (o->threads > 256 ? 256 : o->threads);
-    pthread_t tid[256];
-    int started = 0;
-    for (int i = 0; i < threads; i++)
-        if (pthread_create(&tid[started], NULL, frag_thread, &j) == 0) started++;
-    if (started == 0) {
-        frag_thread(&j); /* no thread could start: shade here */
-    } else {
-        struct timespec ts = {0, 100 * 1000 * 1000};
-        while (atomic_load(&j.rows_done) < kb->h) {
-            if (o->progress)
-                o->progress(o->progress_user, (double)atomic_load(&j.rows_done) / kb->h);
-            nanosleep(&ts, NULL);
-        }
-        for (int i = 0; i < started; i++)
-            pthread_join(tid[i], NULL);
-    }
-    if (o->progress) o->progress(o->progress_user, 1.0);
+    slref_run_rows(frag_thread, &j, &j.rows_done, kb->h, o);
     free(strand_of);
     return 0;
 }
