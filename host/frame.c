@@ -413,6 +413,13 @@ static void entry_shade(const sl_renderer *r, const sl_hair *h, const shade_map 
         v[q] = a[q] + w * (b[q] - a[q]);
 }
 
+/* A lobe's power for the planner: luminance of rgb x the lobe's integral of G. */
+static double lobe_power(const sl_lobe *lb) {
+    static const double lum[3] = {0.2126, 0.7152, 0.0722};
+    return (lum[0] * lb->rgb[0] + lum[1] * lb->rgb[1] + lum[2] * lb->rgb[2]) *
+           sl_lobe_integral(lb->lambda);
+}
+
 int sl_frame_oit_k(const sl_scene *s) {
     int K = s->oit_layers > 0 ? s->oit_layers : 8;
     return K > SL_KBUFFER_MAX ? SL_KBUFFER_MAX : K;
@@ -654,12 +661,9 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     }
 
     /* lobes: skip those whose share of the total power is negligible */
-    static const double lum[3] = {0.2126, 0.7152, 0.0722};
     double *power = sl_malloc(lobes->count * sizeof *power), total = 0;
     for (int j = 0; j < lobes->count; j++) {
-        const sl_lobe *lb = &lobes->lobe[j];
-        power[j] = (lum[0] * lb->rgb[0] + lum[1] * lb->rgb[1] + lum[2] * lb->rgb[2]) *
-                   sl_lobe_integral(lb->lambda);
+        power[j] = lobe_power(&lobes->lobe[j]);
         total += power[j];
     }
     int *used = sl_malloc(lobes->count * sizeof *used), nused = 0;
@@ -709,12 +713,8 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
             used = sl_malloc(nused * sizeof *used);
             share = sl_malloc(nused * sizeof *share);
             for (int j = 0; j < nused; j++) {
-                const sl_lobe *lb = &sub.lobe[j];
                 used[j] = j;
-                share[j] = total > 0
-                               ? (lum[0] * lb->rgb[0] + lum[1] * lb->rgb[1] + lum[2] * lb->rgb[2]) *
-                                     sl_lobe_integral(lb->lambda) / total
-                               : 0;
+                share[j] = total > 0 ? lobe_power(&sub.lobe[j]) / total : 0;
             }
             extra_maps = budget - nused > 0 ? budget - nused : 0;
             sl_frame_pass(r, "subdivide", SL_PASS_RUN, sl_now() - t0,

@@ -1,6 +1,8 @@
 /* lobe_subdivide.c: a broad SRBF lobe as a sum of narrower sub-lobes (lobe_subdivide.h). */
 #include "lobe_subdivide.h"
 
+#include "sphere_points.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,30 +12,6 @@ void sl_subdiv_params_default(sl_subdiv_params *p) {
     p->ratio = SL_SUBDIV_RATIO;
     p->cut = SL_SUBDIV_CUT;
     p->samples = SL_SUBDIV_SAMPLES;
-}
-
-/* An orthonormal frame (u, v) around the unit vector d. */
-static void frame_of(const double d[3], double u[3], double v[3]) {
-    double a[3] = {1, 0, 0};
-    if (fabs(d[0]) > 0.9) a[0] = 0, a[1] = 1;
-    u[0] = a[1] * d[2] - a[2] * d[1];
-    u[1] = a[2] * d[0] - a[0] * d[2];
-    u[2] = a[0] * d[1] - a[1] * d[0];
-    double l = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    for (int k = 0; k < 3; k++)
-        u[k] /= l;
-    v[0] = d[1] * u[2] - d[2] * u[1];
-    v[1] = d[2] * u[0] - d[0] * u[2];
-    v[2] = d[0] * u[1] - d[1] * u[0];
-}
-
-/* Point i of an M-point spherical Fibonacci set with both poles on d (z = 1 - 2 i / (M - 1)). */
-static void fib_point(int i, int M, const double d[3], const double u[3], const double v[3],
-                      double out[3]) {
-    const double golden = M_PI * (3.0 - sqrt(5.0));
-    double z = 1.0 - 2.0 * i / (M - 1.0), r = sqrt(fmax(0.0, 1.0 - z * z)), ph = golden * i;
-    for (int k = 0; k < 3; k++)
-        out[k] = z * d[k] + r * (cos(ph) * u[k] + sin(ph) * v[k]);
 }
 
 /* Solves the n x n system A x = b (A, b overwritten) by Gaussian elimination with partial
@@ -168,12 +146,12 @@ int sl_lobe_subdivide_one(const sl_lobe *in, int nmax, const sl_subdiv_params *p
     int M = plan(lam, nmax, p, &lam_s, &zc);
     if (!M) return 1;
     double u[3], v[3], d[SL_SUBDIV_MAX][3];
-    frame_of(in->dir, u, v);
+    sl_axis_frame(in->dir, u, v);
     int n = 0;
     for (int i = 0; i < M && n < nmax; i++) {
         double z = 1.0 - 2.0 * i / (M - 1.0);
         if (z < zc && zc > -1.0) break;
-        fib_point(i, M, in->dir, u, v, d[n++]);
+        sl_fib_axis_point(i, M, in->dir, u, v, d[n++]);
     }
     if (n < SL_SUBDIV_MIN) return 1;
     /* normal equations on equal-area samples w_k (Fibonacci set on the whole sphere) */
@@ -183,8 +161,8 @@ int sl_lobe_subdivide_one(const sl_lobe *in, int nmax, const sl_subdiv_params *p
     double c2 = 2.0 / (lam * lam), c2s = 2.0 / (lam_s * lam_s);
     for (int k = 0; k < S; k++) {
         /* sample frame independent of the lobe axis, offset by half a band */
-        const double golden = M_PI * (3.0 - sqrt(5.0));
-        double z = 1.0 - (2.0 * k + 1.0) / S, r = sqrt(fmax(0.0, 1.0 - z * z)), ph = golden * k;
+        double z = 1.0 - (2.0 * k + 1.0) / S, r = sqrt(fmax(0.0, 1.0 - z * z)),
+               ph = SL_GOLDEN_ANGLE * k;
         double w[3] = {r * cos(ph), r * sin(ph), z};
         double b = exp(c2 * (w[0] * in->dir[0] + w[1] * in->dir[1] + w[2] * in->dir[2] - 1.0));
         for (int s = 0; s < n; s++)

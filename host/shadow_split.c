@@ -2,6 +2,7 @@
 #include "shadow_split.h"
 
 #include "shadow.h"
+#include "sphere_points.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -14,17 +15,8 @@ int sl_shadow_split(const double dir[3], double lambda, double *dirs, double *w)
         w[0] = 1.0;
         return 1;
     }
-    /* frame (u, v, dir) */
-    double a[3] = {1, 0, 0};
-    if (fabs(dir[0]) > 0.9) a[0] = 0, a[1] = 1;
-    double u[3] = {a[1] * dir[2] - a[2] * dir[1], a[2] * dir[0] - a[0] * dir[2],
-                   a[0] * dir[1] - a[1] * dir[0]};
-    double lu = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    for (int k = 0; k < 3; k++)
-        u[k] /= lu;
-    double v[3] = {dir[1] * u[2] - dir[2] * u[1], dir[2] * u[0] - dir[0] * u[2],
-                   dir[0] * u[1] - dir[1] * u[0]};
-    const double golden = M_PI * (3.0 - sqrt(5.0));
+    double u[3], v[3];
+    sl_axis_frame(dir, u, v);
     int n = 0;
     double sum = 0;
     for (int i = 0; i < SL_SHADOW_SPLIT_N; i++) {
@@ -34,9 +26,7 @@ int sl_shadow_split(const double dir[3], double lambda, double *dirs, double *w)
         if (g < SL_SHADOW_SPLIT_CUT) continue;
         /* equal-area bands in z (Archimedes); the two poles hold half a band each */
         double area = (i == 0 || i == SL_SHADOW_SPLIT_N - 1) ? 0.5 : 1.0;
-        double r = sqrt(fmax(0.0, 1.0 - z * z)), ph = golden * i;
-        for (int k = 0; k < 3; k++)
-            dirs[3 * n + k] = z * dir[k] + r * (cos(ph) * u[k] + sin(ph) * v[k]);
+        sl_fib_axis_point(i, SL_SHADOW_SPLIT_N, dir, u, v, dirs + 3 * n);
         w[n] = g * area;
         sum += w[n];
         n++;
