@@ -4,7 +4,7 @@
 #include "../cpu/prefix_sum.h"
 #include "../kernels/prefix_sum.h"
 
-#include "common.h"
+#include "base/common.h"
 
 #include <stdlib.h>
 #include <string.h>

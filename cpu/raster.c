@@ -12,7 +12,7 @@
 #define SAMPLE_SPACING 0.5
 #define MAX_ALONG ((double)SL_RASTER_MAX_ALONG)
 #define MAX_ACROSS ((double)SL_RASTER_MAX_ACROSS)
-#define SL_RASTER_MAX_LAYERS 64 /* host/shadow.h: SL_SHADOW_MAX_LAYERS */
+#define SL_RASTER_MAX_LAYERS 64 /* host/passes/light/shadow.h: SL_SHADOW_MAX_LAYERS */
 
 void slc_raster_record(const double p0[3], const double p1[3], double hw, double scale,
                        float *rec) {

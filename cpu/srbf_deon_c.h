@@ -10,7 +10,7 @@
 
 /* in: 5 floats per row (theta_o, phi_o, theta_j, phi_j, lambda); out: orders + 3 per row
  * (I_0..I_orders, I_rest, I; orders = fp->orders, at most SL_DEON_MAX_ORDERS). C, H, D: the
- * tables of host/srbf_tables.h (t.C, t.H, t.D). */
+ * tables of host/passes/shade/srbf_tables.h (t.C, t.H, t.D). */
 void slc_srbf_deon_batch(const sl_fiber_params *fp, const float *C, const float *H, const float *D,
                          size_t n, const float *in, float *out);
 

@@ -1,6 +1,6 @@
 /* srbf_ren_c.h: the precomputed SRBF response table of Ren 2010 Sec. 4 as the lookups see it,
  * and the C twin's batch lookup (kernels/srbf_ren_lookup.h; the table is built and cached by
- * host/srbf_ren.c, docs/srbf_ren.md). One thread; the per-row work is a fixed 16-corner
+ * host/passes/shade/srbf_ren.c, docs/srbf_ren.md). One thread; the per-row work is a fixed 16-corner
  * quadrilinear blend per mode with no branch on the data. */
 #ifndef SL_SRBF_REN_C_H
 #define SL_SRBF_REN_C_H

@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "common.h"
+#include "base/common.h"
 
 /* A pixel the previous segment of the current strand touched: its running sums (coverage mass
  * M, opacity-weighted mass, depth-weighted mass) and the fragment they became (idx, or NO_FRAG

@@ -1,5 +1,5 @@
 /* dual_material.h: the dual-scattering material terms (Zinke et al. 2008, as Xu 2011 Sec. 4.3.2 Eq.
- * 29-33 uses them) in float, shared by the C twin (cpu/dual_c.c, host/dual.c) and OpenCL: the
+ * 29-33 uses them) in float, shared by the C twin (cpu/dual_c.c, host/passes/volume/dual.c) and OpenCL: the
  * averaged forward/backward attenuations a_f, a_b, shifts alpha_f, alpha_b, widths beta_f, beta_b
  * and the local backscattering terms A_b, Delta_b, sigma_b, as 1-D tables over theta_d with 1-D
  * SATs of Delta_b and sigma_b (Xu Eq. 31). The double reference is cpu/reference/dual_ref.c; the

@@ -1,5 +1,5 @@
 /* ms.cl: the multiple-scattering response per fragment and lobe (kernels/ms_response.h; the C
- * side is host/volume_ms.c): one work-item per row (theta_o, phi_o, theta_j, phi_j, lambda,
+ * side is host/passes/volume/volume_ms.c): one work-item per row (theta_o, phi_o, theta_j, phi_j, lambda,
  * sigma_f) -> (M^G, M^L) of one channel. sl_ms_table_rows reads the per-material response table
  * (kernels/ms_table.h), as the C side's sl_volume_ms_terms does; sl_ms_response_rows evaluates
  * the response directly (its reference). The renderer's view pass can call sl_ms_table_1 the

@@ -1,5 +1,5 @@
 /* ms_table.h: the per-material table of the multiple-scattering response (kernels/ms_response.h,
- * Xu 2011 Eq. 27-31) and its lookup, float, shared by C (host/volume_ms.c builds it and looks it
+ * Xu 2011 Eq. 27-31) and its lookup, float, shared by C (host/passes/volume/volume_ms.c builds it and looks it
  * up per fragment and lobe) and OpenCL (kernels/ms.cl), so both agree to float rounding. The
  * idea is Ren 2010's precomputed single-scattering table (kernels/srbf_ren_lookup.h); layout,
  * size and error: docs/volume.md, "The response table".

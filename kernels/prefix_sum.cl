@@ -1,4 +1,4 @@
-/* prefix_sum.cl: inclusive row and column scans and a transpose, from which host/prefix_sum_cl.c
+/* prefix_sum.cl: inclusive row and column scans and a transpose, from which host/passes/light/prefix_sum_cl.c
  * builds the 2-D inclusive prefix sum (summed-area table) in two variants: work-group tile scans
  * of rows with transposes for the columns (GPUs), or one work-item per tile running the tile's
  * tree serially, rows then columns in place (CPU devices). The C twin is cpu/prefix_sum.c; the scan

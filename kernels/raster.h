@@ -33,7 +33,7 @@
 
 /* Light views for the device-side projection (sl_raster_project_seg): SL_RASTER_VIEW floats per
  * lobe: origin (3), ex / texel (3), ey / texel (3), ez (3): u = (p - o).ex', v = (p - o).ey',
- * z = (p - o).ez (host/shadow.h: sl_light_view). */
+ * z = (p - o).ez (host/passes/light/shadow.h: sl_light_view). */
 #define SL_RASTER_VIEW 12
 /* Samples at most 1/2 texel apart along and across a ribbon (the tent filter then reconstructs
  * a uniform line density with a ripple below 1 % of the texel value); caps bound one record's

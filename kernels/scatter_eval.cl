@@ -1,5 +1,5 @@
 /* scatter_eval.cl: OpenCL kernels behind `strandlight eval` for the fiber quantities
- * (numerics.md sec. 5), one work-item per row; host side in host/fiber_cl.c. They call the same
+ * (numerics.md sec. 5), one work-item per row; host side in host/passes/shade/fiber_cl.c. They call the same
  * float headers as the C twin (cpu/fiber_c.c), so both backends agree to float rounding.
  *   sl_scatter_eval:  in theta_i, phi_i, theta_o, phi_o -> f per mode + total (width floats)
  *   sl_deon_mp_eval:  in v, theta_i, theta_o            -> M, log_M

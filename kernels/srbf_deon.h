@@ -14,7 +14,7 @@
  *    variance l^2/2, the detector beta^2). R keeps Xu's exact C_k expansion for Schlick's part
  *    and the exact Fresnel's residual through W, as the Marschner fast path does. Orders 1, 2
  *    read the W slices of TT and TRT, orders 3..SL_SRBF_DEON_MAX_P the extra slices D built by
- *    host/srbf_tables.c; orders above that and the rest term have a uniform azimuth (exact
+ *    host/passes/shade/srbf_tables.c; orders above that and the rest term have a uniform azimuth (exact
  *    for the rest term; for p > SL_SRBF_DEON_MAX_P an approximation, see docs/srbf.md).
  *  - longitudinal: G_th M_p = K exp(a cos ti + b sin ti) i0e(cos ti cos to' / v) exactly, a von
  *    Mises lobe in ti of centre atan2(b, a) and concentration |(a, b)|: 8 Gauss-Legendre nodes
@@ -52,7 +52,7 @@
 
 /* U_i = omega_i / (2 pi), omega_i = int_0^{pi/2} L_i(cos u) cos u du = 1/2 int L_i(c(h)) dh:
  * the W weights of a uniform azimuth (lambda -> infinity), so E = sum A(c_i) omega_i is the
- * product rule for the energy 1/2 int A dh (test/test_srbf_deon.c checks them by quadrature). */
+ * product rule for the energy 1/2 int A dh (test/passes/shade/test_srbf_deon.c checks them by quadrature). */
 #define SL_SRBF_DEON_U                                                                             \
     {                                                                                              \
         0.00659695314057874f / 6.28318530717958648f, 0.116919608856975f / 6.28318530717958648f,    \
@@ -222,7 +222,7 @@ SL_INLINE void sl_srbf_deon_az(const sl_fiber_params *fp, SL_GLOBAL const float 
 
 /* The response to one SRBF lobe: out[p] = I_p (p = 0..orders), out[orders+1] = I_rest,
  * out[orders+2] = I (orders clamped to SL_DEON_MAX_ORDERS). C, H: the tables of
- * host/srbf_tables.h (C_k; H_k then W), D: its d'Eon slices (SL_SRBF_DEON_FLOATS). */
+ * host/passes/shade/srbf_tables.h (C_k; H_k then W), D: its d'Eon slices (SL_SRBF_DEON_FLOATS). */
 SL_INLINE void sl_srbf_deon(const sl_fiber_params *fp, SL_GLOBAL const float *C,
                             SL_GLOBAL const float *H, SL_GLOBAL const float *D, float theta_o,
                             float phi_o, float theta_j, float phi_j, float lambda, float *out) {

@@ -1,8 +1,8 @@
 /* srbf_deon_eval.cl: the OpenCL kernel behind `strandlight eval srbf --method fast` for the
- * d'Eon model, one work-item per row; host side in host/srbf_deon_cl.c. The same float header
+ * d'Eon model, one work-item per row; host side in host/passes/shade/srbf_deon_cl.c. The same float header
  * as the C twin (kernels/srbf_deon.h, cpu/srbf_deon_c.c), so both backends agree to rounding.
  *   sl_srbf_deon_eval: in theta_o, phi_o, theta_j, phi_j, lambda -> I_0..I_orders, I_rest, I
- *   (stride orders + 3). C, H, D: the tables of host/srbf_tables.h.
+ *   (stride orders + 3). C, H, D: the tables of host/passes/shade/srbf_tables.h.
  *   sl_srbf_deon_rgb: the renderer's rows (sl_srbf_deon_rgb_row): in as above, sig 3 per row
  *   (or use_sig == 0: fp.sigma_a), out 9 per row (I_0 rgb, I_1 rgb, orders >= 2 + rest rgb). */
 #include "srbf_deon.h"

@@ -1,12 +1,12 @@
 /* srbf_eval.cl: the OpenCL kernels behind `strandlight eval srbf` (--method xu and fast) and the
- * frame's shading pass, one work-item per row; host side in host/srbf_cl.c. They call the same
+ * frame's shading pass, one work-item per row; host side in host/passes/shade/srbf_cl.c. They call the same
  * float headers as the C twin (cpu/srbf_c.c), so both backends agree to float rounding.
  *   sl_srbf_eval:     in theta_o, phi_o, theta_j, phi_j, lambda -> I_R, I_TT, I_TRT, I
  *   sl_srbf_eval_rgb: the same rows and 3 sigma_a per row (has_sigma = 0: fp's in all three)
  *                     -> I_R rgb, I_TT rgb, I_TRT rgb (sl_srbf_rgb_row)
- * C and H are the tables of host/srbf_tables.h (layout in kernels/srbf_xu.h).
+ * C and H are the tables of host/passes/shade/srbf_tables.h (layout in kernels/srbf_xu.h).
  *
- * Specialisation (issue 9; host/srbf_cl.c builds one program per option set, cached by clrt):
+ * Specialisation (issue 9; host/passes/shade/srbf_cl.c builds one program per option set, cached by clrt):
  *   -DSL_SRBF_SPEC_METHOD=0|1   the method is a constant (the other one is not compiled)
  *   -DSL_SRBF_SPEC_SEGMENTS=m   Xu's m is a constant (its node loop unrolls)
  *   -DSL_SRBF_FAST_ONLY         with method 1: no Xu code at all

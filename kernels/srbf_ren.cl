@@ -1,6 +1,6 @@
 /* srbf_ren.cl: lookup in the precomputed SRBF response table of Ren 2010 Sec. 4, one work-item
  * per row; the twin of cpu/srbf_ren_c.c (same math, kernels/srbf_ren_lookup.h). Host side:
- * host/srbf_ren.c (slcl_srbf_ren_batch).
+ * host/passes/shade/srbf_ren.c (slcl_srbf_ren_batch).
  *   sl_srbf_ren_eval: in theta_o, phi_o, theta_j, phi_j, lambda -> I_R rgb, I_TT rgb, I_TRT rgb */
 #include "srbf_ren_lookup.h"
 

@@ -3,7 +3,7 @@
  * OpenCL kernel (kernels/srbf_ren.cl) so both agree to float rounding.
  *
  * For one fixed material the response I_t(omega_o; omega_j, lambda) of numerics.md sec. 4 is
- * baked (host/srbf_ren.c, from the `fast` closed form) over four axes in the fiber frame:
+ * baked (host/passes/shade/srbf_ren.c, from the `fast` closed form) over four axes in the fiber frame:
  *  - h = (theta_o + theta_j) / 2, warped per mode and lambda slice around alpha_t: the
  *    response is a lobe centred on h = alpha_t of width w = sqrt(beta_t^2 + lambda^2 / 4)
  *    (M_t(theta_h) convolved with the SRBF, Xu 2011 Eq. 11), so the nodes crowd there:

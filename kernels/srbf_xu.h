@@ -1,7 +1,7 @@
 /* srbf_xu.h: Xu et al. 2011 Sec. 4.2 closed-form SRBF response of the Marschner model (the
  * `--method xu` path), in float, shared by the C twin (cpu/srbf_c.c) and OpenCL
  * (kernels/srbf_eval.cl). Every reading of an ambiguity of the paper is in docs/srbf.md; the
- * tables (C_k, H_k) are built on the host by host/srbf_tables.c with the layout below.
+ * tables (C_k, H_k) are built on the host by host/passes/shade/srbf_tables.c with the layout below.
  *
  *   I_t ~ int g(theta_i; theta_j, lambda) M_t(theta_h) cos^2 theta_i / cos^2 theta_d
  *             N'_t(lambda', phi_o - phi_j, theta_d) d theta_i                       (Xu Eq. 11)
@@ -13,7 +13,7 @@
 
 #include "fiber_marschner.h"
 
-/* ---- table layout (host/srbf_tables.c fills them; docs/srbf.md) ---- */
+/* ---- table layout (host/passes/shade/srbf_tables.c fills them; docs/srbf.md) ---- */
 #define SL_SRBF_NL 128   /* lambda' samples, log-uniform in [SL_SRBF_LMIN, SL_SRBF_LMAX] */
 #define SL_SRBF_NPHI 64  /* |phi| samples, uniform in [0, pi] */
 #define SL_SRBF_NETA 128 /* eta samples, log-uniform in [1, 10] */

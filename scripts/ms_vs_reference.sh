@@ -8,7 +8,7 @@
 # only lobes cannot be referenced, docs/reference.md), so part of the error is the lighting
 # representation: the single-scattering part (beauty - MS) is compared the same way as a
 # baseline. Error: numerics.md sec. 6 (rel. RMSE over hair pixels, mean of the three channels,
-# and p99 of the per-pixel relative error), computed by sl_image_error (host/reference.h) in a
+# and p99 of the per-pixel relative error), computed by sl_image_error (host/verify/reference/reference.h) in a
 # small driver compiled here against BUILD/libstrandlight.a. Also prints mean M and S.
 set -eu
 BUILD=${1:-build}

@@ -7,7 +7,7 @@
 
 #include "test.h"
 
-#include "frame.h"
+#include "plan/frame.h"
 
 #include <math.h>
 #include <stdio.h>

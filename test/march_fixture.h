@@ -7,9 +7,9 @@
 
 #include "test.h"
 
-#include "dual.h"
-#include "hair.h"
-#include "volume.h"
+#include "passes/volume/dual.h"
+#include "io/hair/hair.h"
+#include "passes/volume/volume.h"
 
 #include <string.h>
 

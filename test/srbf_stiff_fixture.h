@@ -1,5 +1,5 @@
 /* srbf_stiff_fixture.h: the stiff sample with its exact values, as test_srbf.c and
- * test_srbf_ren.c read it: the 150 configurations of host/srbf_sample.c (SL_SRBF_SAMPLE_SEED) and
+ * test_srbf_ren.c read it: the 150 configurations of host/verify/report/srbf_sample.c (SL_SRBF_SAMPLE_SEED) and
  * the values the independent double reference (cpu/reference/srbf_ref.c) wrote to
  * test/test_srbf_stiff.csv. Static inline: every test file includes it into the one unit_tests
  * binary. */
@@ -8,8 +8,8 @@
 
 #include "test.h"
 
-#include "report_srbf.h"
-#include "srbf_sample.h"
+#include "verify/report/report_srbf.h"
+#include "verify/report/srbf_sample.h"
 
 #include <stdlib.h>
 

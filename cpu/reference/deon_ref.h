@@ -6,7 +6,7 @@
 #ifndef SL_DEON_REF_H
 #define SL_DEON_REF_H
 
-#include "material.h"
+#include "scene/material.h"
 
 /* log of d'Eon Eq. 7 in our convention (omega_i toward the light, specular cone theta_o =
  * -theta_i): log[ csch(1/v)/(2v) exp(-sin ti sin to / v) I0(cos ti cos to / v) ], no shift.

@@ -5,7 +5,7 @@
 #ifndef SL_DUAL_REF_H
 #define SL_DUAL_REF_H
 
-#include "material.h"
+#include "scene/material.h"
 
 /* Output order of the nine terms (numerics.md sec. 5). */
 enum {

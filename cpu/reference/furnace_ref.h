@@ -5,7 +5,7 @@
 #ifndef SL_FURNACE_REF_H
 #define SL_FURNACE_REF_H
 
-#include "material.h"
+#include "scene/material.h"
 
 /* Albedo for outgoing direction (theta_o, phi_o), colour channel ch. With model deon,
  * sigma_a = 0 and all orders (explicit + rest), the exact value is 1 when every order shares one

@@ -11,8 +11,8 @@
 #ifndef SL_MARCH_REF_H
 #define SL_MARCH_REF_H
 
-#include "hair.h"
-#include "material.h"
+#include "io/hair/hair.h"
+#include "scene/material.h"
 
 #include <stddef.h>
 

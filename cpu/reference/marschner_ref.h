@@ -5,7 +5,7 @@
 #ifndef SL_MARSCHNER_REF_H
 #define SL_MARSCHNER_REF_H
 
-#include "material.h"
+#include "scene/material.h"
 
 /* out = f_R, f_TT, f_TRT, f for colour channel ch (sigma_a[ch]); angles in the fiber frame
  * (numerics.md sec. 1). Never NaN/Inf for inputs in range. */

@@ -7,7 +7,7 @@
 #ifndef SL_RAYTRACE_REF_H
 #define SL_RAYTRACE_REF_H
 
-#include "hair.h"
+#include "io/hair/hair.h"
 
 #include <stdint.h>
 

@@ -1,5 +1,5 @@
 /* render_ref.h: the brute-force reference renderer's core (docs/reference.md), in double:
- * camera rays through jittered sub-pixel positions (host/camera.h pixels), the closest fiber hit
+ * camera rays through jittered sub-pixel positions (host/scene/camera.h pixels), the closest fiber hit
  * (Embree, raytrace_ref.h), and at each hit the sum over N directional lights of
  *   single scattering: f(omega_i, omega_o) (the exact reference fiber function, marschner_ref.h /
  *     deon_ref.h, per colour channel) x light power x visibility (a shadow ray through the
@@ -12,8 +12,8 @@
 #ifndef SL_RENDER_REF_H
 #define SL_RENDER_REF_H
 
-#include "camera.h"
-#include "material.h"
+#include "scene/camera.h"
+#include "scene/material.h"
 #include "raytrace_ref.h"
 
 #include <stdatomic.h>

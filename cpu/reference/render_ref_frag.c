@@ -50,7 +50,7 @@ static void frag_pixel(const frag_job *j, size_t px) {
         uint32_t seg = f[i].seg, prim = slref_frag_prim(h, j->strand_of, seg);
         if (prim == SLREF_RT_NONE) continue; /* not a segment: the view pass never emits it */
         double x[3], wo[3], l = 0, ss[3], ms[3], md[9];
-        for (int q = 0; q < 3; q++) { /* host/frame.c build_points, in double */
+        for (int q = 0; q < 3; q++) { /* host/plan/frame.c build_points, in double */
             x[q] = h->pos[3 * seg + q] +
                    (double)f[i].t * (h->pos[3 * seg + 3 + q] - h->pos[3 * seg + q]);
             wo[q] = j->eye[q] - x[q];

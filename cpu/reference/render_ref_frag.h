@@ -1,12 +1,12 @@
 /* render_ref_frag.h: the reference's fragment mode (issue 10, docs/reference.md "Fragment
  * mode"): the reference shades exactly the K-buffer entries of the fast path's view pass
- * (host/frame_view.c) instead of tracing camera rays, and composites them with the fast path's
+ * (host/passes/view/frame_view.c) instead of tracing camera rays, and composites them with the fast path's
  * own front-to-back weights (kernels/kbuffer.h sl_kbuffer_weights). Coverage, alpha and depth
  * are therefore identical to the fast path's, and the only error of the image left to the
  * reference is its light cut (N directional lights), which N vs 2N lights measures.
  *
  * Each entry (segment `seg` = global index of its first point, parameter t) is shaded where the
- * fast path shades it at fragment rate (host/frame.c build_points): x = pos[seg] + t (pos[seg+1]
+ * fast path shades it at fragment rate (host/plan/frame.c build_points): x = pos[seg] + t (pos[seg+1]
  * - pos[seg]) in double, wo = unit(eye - x), with slref_shade (every light, exact fiber function,
  * shadow rays through the real fibers; the Embree primitive is seg - strand(seg), and the
  * self-hit rule of raytrace_ref.h ignores the entry's own segment and its neighbours).
@@ -14,7 +14,7 @@
 #ifndef SL_RENDER_REF_FRAG_H
 #define SL_RENDER_REF_FRAG_H
 
-#include "hair.h"
+#include "io/hair/hair.h"
 #include "kbuffer.h"
 #include "render_ref.h"
 

@@ -6,12 +6,12 @@
  *                                   d omega_i,   G = exp(2 (omega_i . omega_j - 1) / lambda^2).
  *
  * Adaptive (vector Gauss-Kronrod) in theta_i of an inner azimuthal integral; relative error
- * <= 1e-4 of max(I_t, 0.03 int G) (measured in test/test_srbf.c). Slow: milliseconds to seconds
+ * <= 1e-4 of max(I_t, 0.03 int G) (measured in test/passes/shade/test_srbf.c). Slow: milliseconds to seconds
  * per value (d'Eon with many orders and eccentric fibers: seconds). */
 #ifndef SL_SRBF_REF_H
 #define SL_SRBF_REF_H
 
-#include "material.h"
+#include "scene/material.h"
 
 /* out receives sl_eval_num_outputs(SL_EVAL_SRBF, m) values: marschner I_R, I_TT, I_TRT, I;
  * deon I_0..I_orders, I_rest, I. Angles in the fiber frame (numerics.md sec. 1), lambda > 0,

@@ -8,7 +8,7 @@
 #ifndef SL_TRANSMITTANCE_REF_H
 #define SL_TRANSMITTANCE_REF_H
 
-#include "hair.h"
+#include "io/hair/hair.h"
 
 #include <stdint.h>
 

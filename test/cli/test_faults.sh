@@ -88,7 +88,7 @@ sweep faults_alloc_info_hdr "$CAP" "$D/none" /dev/null "$SL" info data/env/city_
 sweep faults_alloc_render_auto 3 "$D/out" /dev/null "$SL" render "$D/scene.json" --device auto
 
 
-# ---- OpenCL faults (SL_CL_FAULT=build|enqueue|lost, host/clrt.h) ----
+# ---- OpenCL faults (SL_CL_FAULT=build|enqueue|lost, host/cl/clrt.h) ----
 # eval --backend opencl names its device explicitly ("opencl"): a fault is a clean one-line
 # error naming the OpenCL error. `kernels` never falls back (docs/opencl.md): each check is a
 # FAIL line and the exit status 1, never a crash. render under auto must warn, fall back and
@@ -137,7 +137,7 @@ else
 fi
 
 # ---- stability sweep: degenerate geometry, extreme materials, degenerate cameras ----
-# `kernels --extreme` (host/kernel_checks.c) sweeps the shadow maps and the fiber function on
+# `kernels --extreme` (host/verify/checks/kernel_checks.c) sweeps the shadow maps and the fiber function on
 # the C path and, with a device, on the kernels: every line must be PASS (no NaN/Inf anywhere).
 sweep_check() {
     local name=$1; shift

@@ -79,7 +79,7 @@ sys.exit(0 if ok else 1)' "$cc" "$oc"; then pass "srbf_c_vs_opencl_$meth"
     else fail "srbf_c_vs_opencl_$meth" "c: $cc opencl: $oc"; fi
 done
 
-# `report --kernel srbf` (host/report_srbf.c): on the committed exact values of the stiff sample
+# `report --kernel srbf` (host/verify/report/report_srbf.c): on the committed exact values of the stiff sample
 # (test/test_srbf_stiff.csv), C only, a 25-row prefix: table, CSV and SVG written atomically;
 # rows: fast, xu m = 1..8, Ren's precomputed table (header + 10).
 R="$D/report"

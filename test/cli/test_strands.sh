@@ -31,7 +31,7 @@ if [ $rc -eq 0 ] && printf '%s\n' "$out" | grep -q '^shade .*per-strand sigma_a'
 else fail strands_csv_renders "rc=$rc $(printf '%s' "$out" | grep '^shade')"; fi
 expect_ok strands_plain_renders "$SL" render "$D/plain.json" --device c
 if cmp -s "$D/out/plain.exr" "$D/out/painted.exr"; then
-    skip strands_paint_changes_frame "host/frame_shade.c does not read per-strand sigma_a yet"
+    skip strands_paint_changes_frame "host/passes/shade/frame_shade.c does not read per-strand sigma_a yet"
 else pass strands_paint_changes_frame; fi
 
 # bad CSV rows: one line naming the file and the line, no output

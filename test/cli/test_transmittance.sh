@@ -111,7 +111,7 @@ else
 fi
 
 # A broad lobe against the ray-traced reference: the mean T of 60 points 0.3 deep. Measured:
-# reference 0.323, c 0.316 (the lobe split into its shadow directions, host/shadow_split.h).
+# reference 0.323, c 0.316 (the lobe split into its shadow directions, host/passes/light/shadow_split.h).
 # One map per lobe gave 0.476 with the capped 30-degree support and 0.976 before the cap (the
 # box covered the whole map). Tolerance 0.1 (the slab checks above allow 0.11 for the DODM's own
 # biases): passes the split, fails both single-map forms.

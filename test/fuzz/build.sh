@@ -5,9 +5,9 @@
 #
 # A target names the library sources it needs in a comment line (globs, relative to the repo
 # root), which keeps the sanitized build small and fast:
-#   /* FUZZ_SOURCES: host/hair*.c host/common.c */
+#   /* FUZZ_SOURCES: host/io/hair/*.c host/base/common.c */
 # Without that line it links against an archive of every library source of the Makefile
-# (host/*.c but main.c, host/*.cpp, cpu/*.c, cpu/reference/*.c; a cold build of all of them
+# (host/**/*.c but host/cli/main.c, host/**/*.cpp, cpu/*.c, cpu/reference/*.c; a cold build of all of them
 # takes ~25 s of CPU). Sources are compiled with clang-15 / clang++-15
 # -fsanitize=fuzzer-no-link,address,undefined (C++ must be clang++: g++ objects do not carry
 # the sanitizer coverage hooks); include flags and libraries come from the Makefile itself.
@@ -29,7 +29,7 @@ mkvar() { make -s --no-print-directory BUILD="$OUT/.none" --eval='print-%: ; @:$
 CPPFLAGS=$(mkvar CPPFLAGS)
 LDLIBS=$(mkvar LDLIBS)
 CXXINC=$(mkvar CXXFLAGS | tr ' ' '\n' | grep '^-I' | tr '\n' ' ' || true)
-LIB_ALL=$(ls host/*.c host/*.cpp cpu/*.c cpu/reference/*.c 2>/dev/null | grep -v '^host/main\.c$' || true)
+LIB_ALL=$(find host cpu -name '*.c' -o -name '*.cpp' | sort | grep -v '^host/cli/main\.c$' || true)
 
 mkdir -p "$OUT"
 MK="$OUT/fuzz.mk"
@@ -65,7 +65,7 @@ for src in test/fuzz/fuzz_*.c; do
     objs="$OUT/obj/${src%.c}.o"
     if [ -n "$decl" ]; then
         # shellcheck disable=SC2086 # the globs are meant to expand
-        for s in $(ls $decl 2>/dev/null | grep -v '^host/main\.c$' | sort -u); do
+        for s in $(ls $decl 2>/dev/null | grep -v '^host/cli/main\.c$' | sort -u); do
             objs="$objs $OUT/obj/${s%.*}.o"
         done
     else

@@ -4,8 +4,8 @@
  * starting with the source name; numbers that are accepted must be finite. The input is an
  * exact-size copy without a terminating NUL so ASan sees reads past the end.
  * Seeds: test/fuzz/corpus/fuzz_csv/.
- * FUZZ_SOURCES: host/csv.c host/common.c */
-#include "csv.h"
+ * FUZZ_SOURCES: host/base/csv.c host/base/common.c */
+#include "base/csv.h"
 
 #include <math.h>
 #include <stdint.h>

@@ -4,8 +4,8 @@
  * having to find the magic bytes: byte % 4 == 1 prepends the EXR magic (76 2f 31 01), == 3 the
  * Radiance line "#?RADIANCE\n", 0 or 2 passes the rest as is (dispatch by magic); bit 2 sets
  * clamp_nonfinite. Seeds: any small .hdr/.exr with one byte (0) in front.
- * FUZZ_SOURCES: host/envmap*.c host/exr_cxx_shim.cpp host/common.c */
-#include "envmap.h"
+ * FUZZ_SOURCES: host/io/envmap/*.c host/io/envmap/*.cpp host/base/common.c */
+#include "io/envmap/envmap.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -5,8 +5,8 @@
  * extension (content sniffing); bit 2 set = .tfxproj text. On success the loaded hair goes
  * through validation, bounds, tangents, up-axis conversion and follow strands; on failure the
  * message must be a single non-empty line. Seeds: test/fuzz/corpus/fuzz_hair/.
- * FUZZ_SOURCES: host/hair*.c host/common.c */
-#include "hair.h"
+ * FUZZ_SOURCES: host/io/hair/*.c host/base/common.c */
+#include "io/hair/hair.h"
 
 #include <math.h>
 #include <stdlib.h>

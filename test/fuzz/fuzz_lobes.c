@@ -3,8 +3,8 @@
  * SL_LOBES_MAX, unit dir, lambda > 0, finite rgb >= 0) or fail with a one-line message naming
  * the file and leave the struct zeroed; never crash, leak or read past the given length (exact-
  * size copy, no terminating NUL). Seeds: test/fuzz/corpus/fuzz_lobes/.
- * FUZZ_SOURCES: host/lobes_json.c host/json_util.c host/common.c */
-#include "lobes_json.h"
+ * FUZZ_SOURCES: host/lighting/lobes_json.c host/base/json_util.c host/base/common.c */
+#include "lighting/lobes_json.h"
 
 #include <math.h>
 #include <stdint.h>

@@ -4,8 +4,8 @@
  * file; never crash, leak or read out of bounds. The input is copied to an exact-size buffer
  * without a terminating NUL, so that ASan sees any read past the given length.
  * Seeds: test/fuzz/corpus/fuzz_material/.
- * FUZZ_SOURCES: host/material.c host/json_util.c host/common.c */
-#include "material.h"
+ * FUZZ_SOURCES: host/scene/material.c host/base/json_util.c host/base/common.c */
+#include "scene/material.h"
 
 #include <math.h>
 #include <stdint.h>

@@ -1,7 +1,7 @@
 /* fuzz_scene.c: libFuzzer target for the scene loader (JSON -> validated sl_scene). Any input
  * must either parse or fail with a message; never crash, leak or read out of bounds.
- * FUZZ_SOURCES: host/scene.c host/json_util.c host/material.c host/common.c */
-#include "scene.h"
+ * FUZZ_SOURCES: host/scene/scene.c host/base/json_util.c host/scene/material.c host/base/common.c */
+#include "scene/scene.h"
 
 #include <stdint.h>
 #include <stdlib.h>

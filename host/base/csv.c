@@ -1,0 +1,266 @@
+/* csv.c: see csv.h for the dialect. The input is copied once; lines are cut in place and each
+ * row's fields are cut in a second copy so the row text stays intact for copying through. */
+#include "base/csv.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int is_blank(char c) {
+    return c == ' ' || c == '\t';
+}
+
+/* Trims spaces/tabs in place (s is a writable field). */
+static char *trim(char *s) {
+    while (is_blank(*s))
+        s++;
+    size_t n = strlen(s);
+    while (n > 0 && is_blank(s[n - 1]))
+        s[--n] = 0;
+    return s;
+}
+
+static int blank_line(const char *s) {
+    for (; *s; s++)
+        if (!is_blank(*s)) return 0;
+    return 1;
+}
+
+static size_t count_fields(const char *s) {
+    size_t n = 1;
+    for (; *s; s++)
+        if (*s == ',') n++;
+    return n;
+}
+
+int sl_csv_is_number(const char *s) {
+    while (is_blank(*s))
+        s++;
+    if (!*s) return 0;
+    char *end;
+    (void)strtod(s, &end);
+    if (end == s) return 0;
+    while (is_blank(*end))
+        end++;
+    return *end == 0;
+}
+
+/* Splits `line` (a writable copy) at commas into out[0..n), trimming each field. */
+static void split(char *line, size_t n, const char **out) {
+    size_t k = 0;
+    char *f = line;
+    for (char *c = line;; c++) {
+        if (*c == ',' || *c == 0) {
+            int last = *c == 0;
+            *c = 0;
+            if (k < n) out[k++] = trim(f);
+            if (last) break;
+            f = c + 1;
+        }
+    }
+}
+
+void sl_csv_free(sl_csv *csv) {
+    free(csv->text);
+    free(csv->names);
+    free(csv->names_buf);
+    free(csv->rows);
+    free(csv->line_no);
+    free(csv->fields);
+    free(csv->fields_buf);
+    memset(csv, 0, sizeof *csv);
+}
+
+int sl_csv_parse(const char *text, size_t len, const char *src, sl_csv *csv, sl_err *e) {
+    memset(csv, 0, sizeof *csv);
+    csv->src = src;
+    if (len >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0) text += 3, len -= 3; /* UTF-8 BOM */
+    csv->text = sl_malloc(len + 1);
+    memcpy(csv->text, text, len);
+    csv->text[len] = 0;
+
+    /* Cut lines; remember where each starts. */
+    size_t nlines = 0, cap = 64;
+    char **lines = sl_malloc(cap * sizeof *lines);
+    char *p = csv->text, *end = csv->text + len;
+    while (p < end) {
+        char *nl = memchr(p, '\n', (size_t)(end - p));
+        char *stop = nl ? nl : end;
+        if (memchr(p, 0, (size_t)(stop - p))) {
+            free(lines);
+            sl_csv_free(csv);
+            return sl_fail(e, "%s:%zu: contains a NUL byte (expected text)", src, nlines + 1);
+        }
+        *stop = 0;
+        if (stop > p && stop[-1] == '\r') stop[-1] = 0; /* CRLF */
+        if (nlines == cap) lines = sl_realloc(lines, (cap *= 2) * sizeof *lines);
+        lines[nlines++] = p;
+        p = stop + 1;
+    }
+    /* Blank trailing lines (and a missing final newline) are tolerated. */
+    while (nlines > 0 && blank_line(lines[nlines - 1]))
+        nlines--;
+    if (nlines == 0) {
+        free(lines);
+        sl_csv_free(csv);
+        return sl_fail(e, "%s: empty input: expected a CSV header line naming the columns", src);
+    }
+    int rc = -1;
+    for (size_t l = 0; l < nlines; l++) {
+        if (strchr(lines[l], '"')) {
+            sl_fail(e, "%s:%zu: quoted fields are not supported (no '\"' anywhere)", src, l + 1);
+            goto done;
+        }
+        if (l > 0 && blank_line(lines[l])) {
+            sl_fail(e, "%s:%zu: blank line between records", src, l + 1);
+            goto done;
+        }
+    }
+
+    /* Header. */
+    if (blank_line(lines[0])) {
+        sl_fail(e, "%s:1: blank line: expected a header line naming the columns", src);
+        goto done;
+    }
+    csv->header = lines[0];
+    csv->ncols = count_fields(lines[0]);
+    csv->names_buf = sl_strdup(lines[0]);
+    csv->names = sl_malloc(csv->ncols * sizeof *csv->names);
+    split(csv->names_buf, csv->ncols, (const char **)csv->names);
+    for (size_t c = 0; c < csv->ncols; c++) {
+        if (sl_csv_is_number(csv->names[c])) {
+            sl_fail(e,
+                    "%s:1: expected a header line naming the columns, got the number '%s' "
+                    "(input needs a header)",
+                    src, csv->names[c]);
+            goto done;
+        }
+        if (!csv->names[c][0]) {
+            sl_fail(e, "%s:1: column %zu has an empty name", src, c + 1);
+            goto done;
+        }
+        for (size_t d = 0; d < c; d++)
+            if (strcmp(csv->names[c], csv->names[d]) == 0) {
+                sl_fail(e, "%s:1: duplicate column '%s'", src, csv->names[c]);
+                goto done;
+            }
+    }
+
+    /* Rows. */
+    csv->nrows = nlines - 1;
+    csv->rows = sl_malloc(csv->nrows * sizeof *csv->rows);
+    csv->line_no = sl_malloc(csv->nrows * sizeof *csv->line_no);
+    size_t total = 0;
+    for (size_t r = 0; r < csv->nrows; r++) {
+        const char *row = lines[r + 1];
+        size_t nf = count_fields(row);
+        if (nf != csv->ncols) {
+            sl_fail(e, "%s:%zu: expected %zu fields like the header, got %zu", src, r + 2,
+                    csv->ncols, nf);
+            goto done;
+        }
+        csv->rows[r] = row;
+        csv->line_no[r] = (long)(r + 2);
+        total += strlen(row) + 1;
+    }
+    csv->fields_buf = sl_malloc(total ? total : 1);
+    size_t ncells = csv->nrows * csv->ncols;
+    csv->fields = sl_malloc((ncells > 0 ? ncells : 1) * sizeof *csv->fields);
+    char *q = csv->fields_buf;
+    for (size_t r = 0; r < csv->nrows; r++) {
+        size_t n = strlen(csv->rows[r]) + 1;
+        memcpy(q, csv->rows[r], n);
+        split(q, csv->ncols, csv->fields + r * csv->ncols);
+        q += n;
+    }
+    rc = 0;
+done:
+    free(lines);
+    if (rc) sl_csv_free(csv);
+    return rc;
+}
+
+int sl_csv_find(const sl_csv *csv, const char *name) {
+    for (size_t c = 0; c < csv->ncols; c++)
+        if (strcmp(csv->names[c], name) == 0) return (int)c;
+    return -1;
+}
+
+int sl_csv_number(const sl_csv *csv, size_t row, int col, double *out, sl_err *e) {
+    const char *s = csv->fields[row * csv->ncols + (size_t)col];
+    long line = csv->line_no[row];
+    const char *name = csv->names[col];
+    if (!sl_csv_is_number(s))
+        return sl_fail(e, "%s:%ld: %s: '%.64s' is not a number", csv->src, line, name, s);
+    errno = 0;
+    double v = strtod(s, NULL);
+    /* strtod: "nan", "inf", and overflow (1e999, ERANGE with HUGE_VAL) are all non-finite;
+     * underflow to a subnormal or zero is accepted as the nearest double. */
+    if (!isfinite(v))
+        return sl_fail(e, "%s:%ld: %s: '%.64s' is not finite (inputs must be finite numbers)",
+                       csv->src, line, name, s);
+    *out = v;
+    return 0;
+}
+
+void sl_buf_add(sl_buf *b, const char *s, size_t n) {
+    if (b->len + n + 1 > b->cap) {
+        size_t cap = b->cap ? b->cap : 4096;
+        while (b->len + n + 1 > cap)
+            cap *= 2;
+        b->p = sl_realloc(b->p, cap);
+        b->cap = cap;
+    }
+    memcpy(b->p + b->len, s, n);
+    b->len += n;
+    b->p[b->len] = 0;
+}
+
+void sl_buf_puts(sl_buf *b, const char *s) {
+    sl_buf_add(b, s, strlen(s));
+}
+
+void sl_buf_printf(sl_buf *b, const char *fmt, ...) {
+    char tmp[256];
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(tmp, sizeof tmp, fmt, ap);
+    va_end(ap);
+    if (n < 0) return;
+    if ((size_t)n < sizeof tmp) {
+        sl_buf_add(b, tmp, (size_t)n);
+        return;
+    }
+    char *big = sl_malloc((size_t)n + 1);
+    va_start(ap, fmt);
+    vsnprintf(big, (size_t)n + 1, fmt, ap);
+    va_end(ap);
+    sl_buf_add(b, big, (size_t)n);
+    free(big);
+}
+
+void sl_buf_free(sl_buf *b) {
+    free(b->p);
+    memset(b, 0, sizeof *b);
+}
+
+int sl_read_stream(FILE *fp, const char *name, char **data, size_t *size, sl_err *e) {
+    size_t cap = 65536, n = 0;
+    char *buf = sl_malloc(cap);
+    for (;;) {
+        if (n + 1 >= cap) buf = sl_realloc(buf, cap *= 2);
+        size_t got = fread(buf + n, 1, cap - n - 1, fp);
+        n += got;
+        if (got == 0) break;
+    }
+    if (ferror(fp)) {
+        free(buf);
+        return sl_fail(e, "%s: read error", name);
+    }
+    buf[n] = 0;
+    *data = buf;
+    *size = n;
+    return 0;
+}

@@ -1,0 +1,300 @@
+/* clrt_cache.c: where kernels live, and building OpenCL programs through an on-disk binary
+ * cache (see clrt.h and docs/opencl.md).
+ *
+ * Cache entry: <cache dir>/<stem>-<32 hex>.bin, keyed by a hash of the .cl source, every
+ * kernels/ *.h and *.inc (name + content), device name, driver version, platform name and version
+ * and the full build options. File layout: "SLCLBIN1", key (2 x u64), binary size (u64),
+ * FNV-1a of the binary (u64), binary. Anything that does not check out (short, wrong key or
+ * checksum, rejected by the driver) is ignored, rebuilt from source and rewritten atomically. */
+#include "cl/clrt.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <limits.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define SL_MAX_KERNEL_SOURCE (16u << 20)
+#define SL_MAX_CACHE_ENTRY (256u << 20)
+static const char cache_magic[8] = {'S', 'L', 'C', 'L', 'B', 'I', 'N', '1'};
+
+static int is_dir(const char *p) {
+    struct stat st;
+    return stat(p, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+int sl_kernel_dir_find(char *out, size_t out_size, sl_err *e) {
+    const char *env = getenv("STRANDLIGHT_KERNELS");
+    if (env && *env) {
+        if (!is_dir(env))
+            return sl_fail(e,
+                           "STRANDLIGHT_KERNELS=%s: not a directory (it should point at the "
+                           "kernels/ folder)",
+                           env);
+        snprintf(out, out_size, "%s", env);
+        return 0;
+    }
+    char exe[4096], dir[4096], cand[4096 + 16];
+    ssize_t k = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    cand[0] = 0;
+    if (k > 0) {
+        exe[k] = 0;
+        sl_dirname(exe, dir, sizeof dir);
+        snprintf(cand, sizeof cand, "%s/../kernels", dir);
+        if (is_dir(cand)) {
+            char real[PATH_MAX];
+            snprintf(out, out_size, "%s", realpath(cand, real) ? real : cand);
+            return 0;
+        }
+    }
+#ifdef SL_KERNEL_DIR
+    if (is_dir(SL_KERNEL_DIR)) {
+        snprintf(out, out_size, "%s", SL_KERNEL_DIR);
+        return 0;
+    }
+    return sl_fail(e, "kernel directory not found (tried %s and %s; set STRANDLIGHT_KERNELS)",
+                   cand[0] ? cand : "<exe dir>/../kernels", SL_KERNEL_DIR);
+#else
+    return sl_fail(e, "kernel directory not found (tried %s; set STRANDLIGHT_KERNELS)",
+                   cand[0] ? cand : "<exe dir>/../kernels");
+#endif
+}
+
+int sl_cache_dir_find(char *out, size_t out_size) {
+    const char *v = getenv("SL_CACHE_DIR");
+    if (v && *v) {
+        if (strcmp(v, "off") == 0 || strcmp(v, "none") == 0) return 0;
+        snprintf(out, out_size, "%s", v);
+        return 1;
+    }
+    v = getenv("XDG_CACHE_HOME");
+    if (v && v[0] == '/') { /* XDG: relative values are invalid and ignored */
+        snprintf(out, out_size, "%s/strandlight", v);
+        return 1;
+    }
+    v = getenv("HOME");
+    if (v && *v) {
+        snprintf(out, out_size, "%s/.cache/strandlight", v);
+        return 1;
+    }
+    return 0;
+}
+
+/* ---------------------------------------------------------------- cache key */
+
+typedef struct key_hash {
+    uint64_t a, b;
+} key_hash;
+
+static void key_add(key_hash *h, const void *data, size_t n) {
+    uint64_t len = n; /* length first, so ("ab","c") and ("a","bc") differ */
+    h->a = sl_hash64(data, n, sl_hash64(&len, sizeof len, h->a));
+    h->b = sl_hash64(data, n, sl_hash64(&len, sizeof len, h->b));
+}
+
+static void key_add_str(key_hash *h, const char *s) {
+    key_add(h, s, strlen(s));
+}
+
+static int cmp_str(const void *a, const void *b) {
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+static int is_header_name(const char *n) {
+    size_t l = strlen(n);
+    return n[0] != '.' &&
+           ((l > 2 && strcmp(n + l - 2, ".h") == 0) || (l > 4 && strcmp(n + l - 4, ".inc") == 0));
+}
+
+/* Every *.h and *.inc in the kernel dir, sorted by name, goes into the key: an edit to any
+ * header a kernel might include invalidates the entry (over-invalidation is cheap). */
+static int key_add_headers(key_hash *h, const char *dir, sl_err *e) {
+    DIR *d = opendir(dir);
+    if (!d) return sl_fail(e, "%s: cannot list: %s", dir, strerror(errno));
+    char **names = NULL;
+    size_t n = 0;
+    struct dirent *de;
+    while ((de = readdir(d)) != NULL) {
+        if (!is_header_name(de->d_name)) continue;
+        names = sl_realloc(names, (n + 1) * sizeof *names);
+        names[n++] = sl_strdup(de->d_name);
+    }
+    closedir(d);
+    if (n) qsort(names, n, sizeof *names, cmp_str);
+    int rc = 0;
+    for (size_t i = 0; i < n; i++) {
+        char path[8192];
+        unsigned char *data = NULL;
+        size_t size = 0;
+        snprintf(path, sizeof path, "%s/%s", dir, names[i]);
+        if (rc == 0 && sl_read_file(path, &data, &size, SL_MAX_KERNEL_SOURCE, e) == 0) {
+            key_add_str(h, names[i]);
+            key_add(h, data, size);
+            free(data);
+        } else {
+            rc = -1;
+        }
+        free(names[i]);
+    }
+    free(names);
+    return rc;
+}
+
+/* ---------------------------------------------------------------- cache file */
+
+static void put_u64(unsigned char *p, uint64_t v) {
+    memcpy(p, &v, 8);
+}
+static uint64_t get_u64(const unsigned char *p) {
+    uint64_t v;
+    memcpy(&v, p, 8);
+    return v;
+}
+
+/* Loads a valid entry into a built program, or returns -1 (missing, corrupt, rejected). */
+static int cache_load(const sl_cl_build_target *t, const char *path, key_hash key,
+                      const char *options, cl_program *prog) {
+    unsigned char *data = NULL;
+    size_t size = 0;
+    if (sl_read_file(path, &data, &size, SL_MAX_CACHE_ENTRY, NULL)) return -1;
+    int ok = size >= 40 && memcmp(data, cache_magic, 8) == 0 && get_u64(data + 8) == key.a &&
+             get_u64(data + 16) == key.b && get_u64(data + 24) == size - 40 && size > 40 &&
+             get_u64(data + 32) == sl_hash64(data + 40, size - 40, 0);
+    if (!ok) {
+        free(data);
+        return -1;
+    }
+    size_t bin_size = size - 40;
+    const unsigned char *bin = data + 40;
+    cl_int err, status = CL_SUCCESS;
+    cl_program p = clCreateProgramWithBinary(t->ctx, 1, &t->device, &bin_size, &bin, &status, &err);
+    free(data);
+    if (err != CL_SUCCESS || status != CL_SUCCESS) {
+        if (err == CL_SUCCESS) clReleaseProgram(p);
+        return -1;
+    }
+    if (clBuildProgram(p, 1, &t->device, options, NULL, NULL) != CL_SUCCESS) {
+        clReleaseProgram(p);
+        return -1;
+    }
+    *prog = p;
+    return 0;
+}
+
+/* Best effort: a cache that cannot be written only costs time later. */
+static void cache_store(const sl_cl_build_target *t, const char *path, key_hash key,
+                        cl_program prog) {
+    size_t bin_size = 0;
+    if (clGetProgramInfo(prog, CL_PROGRAM_BINARY_SIZES, sizeof bin_size, &bin_size, NULL) !=
+            CL_SUCCESS ||
+        bin_size == 0 || bin_size > SL_MAX_CACHE_ENTRY)
+        return;
+    unsigned char *buf = sl_malloc(bin_size + 40);
+    unsigned char *bin = buf + 40;
+    if (clGetProgramInfo(prog, CL_PROGRAM_BINARIES, sizeof bin, &bin, NULL) != CL_SUCCESS) {
+        free(buf);
+        return;
+    }
+    memcpy(buf, cache_magic, 8);
+    put_u64(buf + 8, key.a);
+    put_u64(buf + 16, key.b);
+    put_u64(buf + 24, bin_size);
+    put_u64(buf + 32, sl_hash64(bin, bin_size, 0));
+    sl_atomic_file af;
+    if (sl_atomic_open(&af, path, NULL) == 0) {
+        if (fwrite(buf, 1, bin_size + 40, af.fp) == bin_size + 40)
+            sl_atomic_commit(&af, NULL);
+        else
+            sl_atomic_abort(&af);
+    }
+    (void)t;
+    free(buf);
+}
+
+/* ---------------------------------------------------------------- build */
+
+/* Prints the build log to stderr, each line prefixed with "strandlight: <file>: ". */
+static void print_build_log(cl_program p, cl_device_id dev, const char *cl_file) {
+    size_t n = 0;
+    if (clGetProgramBuildInfo(p, dev, CL_PROGRAM_BUILD_LOG, 0, NULL, &n) != CL_SUCCESS || n == 0)
+        return;
+    char *log = sl_calloc(n + 1, 1);
+    if (clGetProgramBuildInfo(p, dev, CL_PROGRAM_BUILD_LOG, n, log, NULL) == CL_SUCCESS) {
+        for (char *line = log; *line;) {
+            char *nl = strchr(line, '\n');
+            if (nl) *nl = 0;
+            if (*line) fprintf(stderr, "strandlight: %s: %s\n", cl_file, line);
+            if (!nl) break;
+            line = nl + 1;
+        }
+    }
+    free(log);
+}
+
+int sl_cl_build_program(const sl_cl_build_target *t, const char *cl_file, const char *options,
+                        cl_program *prog, int *from_cache, sl_err *e) {
+    *prog = NULL;
+    *from_cache = 0;
+    char path[8192];
+    sl_path_join(t->kernel_dir, cl_file, path, sizeof path);
+    unsigned char *src = NULL;
+    size_t src_size = 0;
+    if (sl_read_file(path, &src, &src_size, SL_MAX_KERNEL_SOURCE, e)) return SL_CL_EKERNEL;
+
+    size_t opt_len = strlen(t->kernel_dir) + strlen(options ? options : "") + 64;
+    char *opts = sl_malloc(opt_len);
+    snprintf(opts, opt_len, "-I%s -cl-std=CL1.2%s%s", t->kernel_dir, options && *options ? " " : "",
+             options ? options : "");
+
+    char entry[8192 + 64];
+    entry[0] = 0;
+    key_hash key = {0x5354524e444c4954ull, 0x9e3779b97f4a7c15ull};
+    if (t->cache_dir && *t->cache_dir) {
+        key_add(&key, src, src_size);
+        int ok = key_add_headers(&key, t->kernel_dir, NULL) == 0;
+        key_add_str(&key, t->device_name);
+        key_add_str(&key, t->driver_version);
+        key_add_str(&key, t->platform_name);
+        key_add_str(&key, t->platform_version);
+        key_add_str(&key, opts);
+        if (ok) {
+            char stem[256];
+            const char *base = strrchr(cl_file, '/');
+            snprintf(stem, sizeof stem, "%s", base ? base + 1 : cl_file);
+            char *dot = strrchr(stem, '.');
+            if (dot) *dot = 0;
+            snprintf(entry, sizeof entry, "%s/%s-%016llx%016llx.bin", t->cache_dir, stem,
+                     (unsigned long long)key.a, (unsigned long long)key.b);
+            if (cache_load(t, entry, key, opts, prog) == 0) {
+                *from_cache = 1;
+                free(src);
+                free(opts);
+                return 0;
+            }
+        }
+    }
+
+    cl_int err;
+    const char *srcp = (const char *)src;
+    cl_program p = clCreateProgramWithSource(t->ctx, 1, &srcp, &src_size, &err);
+    free(src);
+    if (err != CL_SUCCESS) {
+        free(opts);
+        return sl_cl_check(err, path, e);
+    }
+    err = clBuildProgram(p, 1, &t->device, opts, NULL, NULL);
+    free(opts);
+    if (err != CL_SUCCESS) {
+        print_build_log(p, t->device, cl_file);
+        clReleaseProgram(p);
+        sl_fail(e, "%s: OpenCL build failed on '%s': %s (%d)%s", path, t->device_name,
+                sl_cl_strerror(err), (int)err,
+                err == CL_BUILD_PROGRAM_FAILURE ? " (build log above)" : "");
+        return SL_CL_EKERNEL;
+    }
+    if (entry[0]) cache_store(t, entry, key, p);
+    *prog = p;
+    return 0;
+}

@@ -1,0 +1,101 @@
+/* env_lighting.c: see env_lighting.h. */
+#include "lighting/env_lighting.h"
+
+#include "cl/clrt.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+/* The "fit" record: everything needed to tell whether lobes are stale and how good they are. */
+char *sl_envfit_record(const char *map_path, const sl_envmap *m, const sl_envfit_settings *s,
+                        int clamp, const sl_envfit_report *r, int count) {
+    cJSON *fit = cJSON_CreateObject();
+    char hash[32];
+    snprintf(hash, sizeof hash, "%016llx", (unsigned long long)m->hash);
+    cJSON_AddStringToObject(fit, "map_hash", hash);
+    cJSON_AddStringToObject(fit, "map", map_path);
+    cJSON *size = cJSON_AddArrayToObject(fit, "map_size");
+    cJSON_AddItemToArray(size, cJSON_CreateNumber(m->width));
+    cJSON_AddItemToArray(size, cJSON_CreateNumber(m->height));
+    cJSON *st = cJSON_AddObjectToObject(fit, "settings");
+    if (s->lobes > 0)
+        cJSON_AddNumberToObject(st, "lobes", s->lobes);
+    else {
+        cJSON_AddStringToObject(st, "lobes", "auto");
+        cJSON_AddNumberToObject(st, "target_error", s->target_error);
+        cJSON_AddNumberToObject(st, "max_lobes", s->max_lobes);
+    }
+    cJSON_AddNumberToObject(st, "lambda_min",
+                            s->lambda_min > 0 ? s->lambda_min : 0.25 * M_PI / m->height);
+    cJSON_AddNumberToObject(st, "lambda_max", s->lambda_max);
+    cJSON_AddNumberToObject(st, "effort", s->effort);
+    cJSON_AddNumberToObject(st, "conv_lambda_deg", s->conv_lambda * 180 / M_PI);
+    cJSON_AddBoolToObject(st, "clamp_nonfinite", clamp);
+    cJSON_AddStringToObject(fit, "method",
+                            "greedy matching pursuit + coarse-to-fine bounded Levenberg-Marquardt");
+    cJSON_AddNumberToObject(fit, "lobes", count);
+    cJSON_AddNumberToObject(fit, "rel_l2", r->rel_l2);
+    cJSON_AddNumberToObject(fit, "lobe_conv_rel_l2", r->lobe_conv_rel_l2);
+    cJSON_AddNumberToObject(fit, "time_s", round(r->time_s * 1000) / 1000);
+    cJSON_AddNumberToObject(fit, "iterations", r->iterations);
+    cJSON_AddNumberToObject(fit, "levels", r->levels);
+    cJSON_AddNumberToObject(fit, "sun_lobes", r->suns);
+    cJSON_AddStringToObject(fit, "version", SL_VERSION);
+    char *txt = cJSON_PrintUnformatted(fit);
+    cJSON_Delete(fit);
+    return txt;
+}
+
+int sl_scene_lobes(const sl_scene *s, int clamp_nonfinite, sl_lobes *out, sl_err *e) {
+    memset(out, 0, sizeof *out);
+    if (s->env_lobes[0]) return sl_lobes_load(s->env_lobes, out, e);
+    sl_envmap map = {0};
+    if (sl_envmap_load(s->env_file, clamp_nonfinite, &map, e)) return -1;
+    sl_envfit_settings set;
+    sl_envfit_default_settings(&set);
+    set.lobes = s->lobes;
+    set.progress = 1;
+    /* Cache key: the decoded pixels' hash, the lobe count and the program version (a newer
+     * fitter may fit better). */
+    char dir[4096], path[4600] = "";
+    if (sl_cache_dir_find(dir, sizeof dir))
+        snprintf(path, sizeof path, "%s/lobes-%016llx-n%d-v%s.json", dir,
+                 (unsigned long long)map.hash, set.lobes, SL_VERSION);
+    struct stat st;
+    if (path[0] && stat(path, &st) == 0) {
+        sl_err ce;
+        if (sl_lobes_load(path, out, &ce) == 0) {
+            sl_note("environment: %d lobes from the cache (%s)", out->count, path);
+            sl_envmap_free(&map);
+            return 0;
+        }
+        sl_warn("ignoring a bad cache entry: %s", ce.msg);
+    }
+    sl_envfit_report rep;
+    if (sl_envfit(&map, &set, out, &rep, e)) {
+        sl_envmap_free(&map);
+        return -1;
+    }
+    out->fit_json = sl_envfit_record(s->env_file, &map, &set, clamp_nonfinite, &rep, out->count);
+    sl_note("environment: fitted %d lobes to %s in %.2f s (rel_l2 %.3f, through a 10 deg lobe %.3f)",
+            out->count, s->env_file, rep.time_s, rep.rel_l2, rep.lobe_conv_rel_l2);
+    sl_err ce;
+    if (path[0] && (sl_make_parent_dirs(path, &ce) || sl_lobes_save(path, out, &ce)))
+        sl_warn("cannot cache the fitted lobes: %s", ce.msg);
+    sl_envmap_free(&map);
+    return 0;
+}
+
+void sl_lobes_transform(sl_lobes *l, double rotation_deg, double intensity) {
+    double r = rotation_deg * M_PI / 180.0, c = cos(r), sn = sin(r);
+    for (int i = 0; i < l->count; i++) {
+        double *d = l->lobe[i].dir, x = d[0], z = d[2];
+        d[0] = c * x + sn * z;
+        d[2] = -sn * x + c * z;
+        for (int k = 0; k < 3; k++) l->lobe[i].rgb[k] *= intensity;
+    }
+}

@@ -1,0 +1,134 @@
+/* frame_view.c: the view pass of the frame (frame.h): every segment projected into the camera
+ * (perspective, per endpoint, in double), turned into fragments by the shared rasterizer
+ * (cpu/view.c) in threads over contiguous segment ranges, then inserted in segment order into
+ * the K-buffer (C twin in threads over row bands, or kernels/kbuffer.cl through host/passes/view/view_cl.h,
+ * bit-identical), so the result is independent of the thread count and the backend. */
+#include "plan/frame_internal.h"
+#include "view.h"
+#include "passes/view/view_cl.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct vjob {
+    const sl_hair *h;
+    const sl_camera *cam;
+    uint32_t s0, s1;
+    slc_frag_list out;
+    float *seglen; /* projected length per segment (NAN when not drawn), indexed by point */
+} vjob;
+
+static void *view_thread(void *arg) {
+    vjob *j = arg;
+    const sl_hair *h = j->h;
+    const sl_camera *cam = j->cam;
+    for (uint32_t s = j->s0; s < j->s1; s++) {
+        uint32_t a = h->strand_first[s], b = h->strand_first[s + 1];
+        for (uint32_t i = a; i + 1 < b; i++) {
+            double q0[3], q1[3], p0[3], p1[3];
+            for (int k = 0; k < 3; k++)
+                q0[k] = h->pos[3 * i + k], q1[k] = h->pos[3 * i + 3 + k];
+            if (!sl_camera_project(cam, q0, &p0[0], &p0[1], &p0[2]) ||
+                !sl_camera_project(cam, q1, &p1[0], &p1[1], &p1[2]))
+                continue;
+            double r0 = h->radius ? h->radius[i] : h->default_radius;
+            double r1 = h->radius ? h->radius[i + 1] : h->default_radius;
+            double hw = 0.5 * (r0 * cam->focal / p0[2] + r1 * cam->focal / p1[2]);
+            float a0 = 1.0f - (h->transparency ? h->transparency[i] : h->default_transparency);
+            float a1 = 1.0f - (h->transparency ? h->transparency[i + 1] : h->default_transparency);
+            a0 = a0 < 0 ? 0 : (a0 > 1 ? 1 : a0);
+            a1 = a1 < 0 ? 0 : (a1 > 1 ? 1 : a1);
+            j->seglen[i] = (float)hypot(p1[0] - p0[0], p1[1] - p0[1]);
+            slc_view_segment(p0, p1, hw, a0, a1, i, cam->width, cam->height, &j->out);
+        }
+    }
+    return NULL;
+}
+
+static int cmp_float(const void *a, const void *b) {
+    float x = *(const float *)a, y = *(const float *)b;
+    return x < y ? -1 : x > y;
+}
+
+int sl_frame_view(sl_renderer *r, const sl_hair *h, const sl_camera *cam, int K, sl_err *e) {
+    enum { MAXT = 16 };
+    int nt = sl_frame_threads(r);
+    if (nt > MAXT) nt = MAXT;
+    if (h->num_strands < 64) nt = 1;
+    int w = cam->width, hh = cam->height;
+    float *seglen = sl_malloc((h->num_points ? h->num_points : 1) * sizeof *seglen);
+    for (uint32_t i = 0; i < h->num_points; i++)
+        seglen[i] = NAN;
+    vjob job[MAXT];
+    pthread_t tid[MAXT];
+    int started[MAXT] = {0};
+    for (int t = 0; t < nt; t++) {
+        job[t] = (vjob){h,
+                        cam,
+                        (uint32_t)((uint64_t)h->num_strands * t / nt),
+                        (uint32_t)((uint64_t)h->num_strands * (t + 1) / nt),
+                        {0},
+                        seglen};
+        started[t] = t > 0 && pthread_create(&tid[t], NULL, view_thread, &job[t]) == 0;
+    }
+    for (int t = 0; t < nt; t++)
+        if (!started[t]) view_thread(&job[t]);
+    for (int t = 1; t < nt; t++)
+        if (started[t]) pthread_join(tid[t], NULL);
+    /* concatenate in segment order */
+    slc_frag_list all = job[0].out;
+    for (int t = 1; t < nt; t++) {
+        if (job[t].out.n) {
+            if (all.n + job[t].out.n > all.cap) {
+                all.cap = all.n + job[t].out.n;
+                all.f = sl_realloc(all.f, all.cap * sizeof *all.f);
+                all.pix = sl_realloc(all.pix, all.cap * sizeof *all.pix);
+            }
+            memcpy(all.f + all.n, job[t].out.f, job[t].out.n * sizeof *all.f);
+            memcpy(all.pix + all.n, job[t].out.pix, job[t].out.n * sizeof *all.pix);
+            all.n += job[t].out.n;
+        }
+        slc_frag_list_free(&job[t].out);
+    }
+    free(r->kbuf);
+    free(r->kcount);
+    size_t npx = (size_t)w * hh;
+    r->kbuf = sl_malloc(npx * K * sizeof *r->kbuf);
+    r->kcount = sl_malloc(npx);
+    r->vw = w, r->vh = hh, r->vK = K;
+    int done = 0;
+    if (sl_frame_srbf_on_device(r)) { /* the same device rule as the SRBF response */
+        int rc = slcl_kbuffer_build(r->dev->cl, &all, w, hh, K, r->kbuf, r->kcount, &r->merges, e);
+        if (rc == 0)
+            done = 1;
+        else if (!sl_device_try_fallback(r->dev, rc, e)) {
+            slc_frag_list_free(&all);
+            free(seglen);
+            return -1;
+        }
+    }
+    if (!done) r->merges = slc_kbuffer_build(&all, w, hh, K, r->kbuf, r->kcount, nt);
+    r->kbuf_on_device = done;
+    r->frags = all.n;
+    /* fragments without an entry of their own (merged on overflow, or hidden behind a fully
+     * opaque entry, kernels/kbuffer.h): the same count on both backends */
+    size_t entries = 0;
+    for (size_t p = 0; p < npx; p++)
+        entries += r->kcount[p];
+    r->merges = all.n - entries;
+    slc_frag_list_free(&all);
+    /* median projected segment length (for shading_rate auto) */
+    size_t m = 0;
+    for (uint32_t i = 0; i < h->num_points; i++)
+        if (!isnan(seglen[i])) seglen[m++] = seglen[i];
+    if (m) {
+        qsort(seglen, m, sizeof *seglen, cmp_float);
+        r->seg_px_median = seglen[m / 2];
+    } else {
+        r->seg_px_median = 0;
+    }
+    free(seglen);
+    return 0;
+}

@@ -1,0 +1,40 @@
+/* dual.h: the dual-scattering material tables of a material (all colour channels) for the
+ * renderer, rebuilt when a material parameter changes (about 2 ms for the default material,
+ * docs/dual.md), and the multiple-scattering share estimate behind
+ * `quality.multiple_scattering: auto`.
+ *
+ *   sl_dual_tables t;
+ *   if (sl_dual_tables_build(&material, &t, &e)) ...   (model deon: error)
+ *   float a_f = sl_dual_lookup(t.tab[ch], SL_DUAL_AF, theta_d);          (kernels/dual_material.h)
+ *   float mean = sl_dual_mean(t.tab[ch], SL_DUAL_DELTA_B, td0, td1);    (Xu Eq. 31)
+ *
+ * The table layout (kernels/dual_material.h, SL_DUAL_TABLE_FLOATS floats per channel) is what the
+ * OpenCL kernels receive as a __global const float buffer. */
+#ifndef SL_DUAL_HOST_H
+#define SL_DUAL_HOST_H
+
+#include "base/common.h"
+#include "dual_material.h"
+#include "scene/material.h"
+
+typedef struct sl_dual_tables {
+    int nch;                            /* 1, or 3 for an [r,g,b] sigma_a */
+    float tab[3][SL_DUAL_TABLE_FLOATS]; /* per channel; tab[c] for c >= nch copies tab[0] */
+} sl_dual_tables;
+
+/* Builds the tables of m (Marschner model). Returns 0, or -1 with e set for model deon. */
+int sl_dual_tables_build(const sl_material *m, sl_dual_tables *t, sl_err *e);
+
+/* Estimated share of multiple scattering in the light a dense hair volume returns, in [0, 1)
+ * (docs/dual.md): per channel, r = <a_b> and t = <a_f> (means over the sphere of incident
+ * directions, weight cos theta_d) are the reflectance and transmittance of one fiber layer; an
+ * infinite stack of such layers reflects R = ((1 + r^2 - t^2) - sqrt((1 + r^2 - t^2)^2 - 4 r^2))
+ * / (2 r) (adding equations), of which r is single scattering; the share is
+ * sum_c w_c (R_c - r_c) / sum_c w_c R_c with Rec. 709 luminance weights w. 0 when R = 0.
+ * Returns -1 for a model it cannot evaluate (deon). */
+double sl_dual_ms_share(const sl_material *m);
+
+/* The infinite-stack reflectance R(r, t) above (r, t >= 0, r + t <= 1). */
+double sl_dual_stack_reflectance(double r, double t);
+
+#endif

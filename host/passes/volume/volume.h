@@ -1,0 +1,96 @@
+/* volume.h: the hair volume passes of multiple scattering (issue 8; Ren 2010 Sec. 6, Xu 2011
+ * Sec. 4.3/5): voxelization, the shadow-path march that gives the forward-scattering
+ * transmittance T_f and spread sigma_f per lobe as 3-D textures, and their lookup. Each pass runs
+ * on the OpenCL kernels (voxel.cl, march.cl) or the C twins with the usual fallback under `auto`
+ * (docs/opencl.md). Definitions and measurements: docs/volume.md.
+ *
+ *   sl_voxel_grid g;
+ *   if (sl_voxelize(&dev, &hair, scene->voxels, &g, &e)) ...;
+ *   sl_dual_tables dt; sl_dual_tables_build(&material, &dt, &e);            (host/passes/volume/dual.h)
+ *   sl_march_opts mo; sl_march_opts_default(&mo);
+ *   sl_ftex f;
+ *   if (sl_march_build(&dev, &g, &dt, nlobes, dirs, &mo, &f, &e)) ...;      (dirs: 3 per lobe)
+ *   float Tf[3], sf[3];
+ *   sl_ftex_lookup(&f, lobe, p, Tf, sf);                 (trilinear; per colour channel)
+ *   sl_ftex_free(&f); sl_voxel_grid_free(&g);
+ *
+ * The multiple-scattering response per fragment and lobe (Xu Eq. 27-31) is in host/passes/volume/volume_ms.h. */
+#ifndef SL_VOLUME_H
+#define SL_VOLUME_H
+
+#include "cl/clrt.h"
+#include "passes/volume/dual.h"
+#include "io/hair/hair.h"
+
+#include <stdint.h>
+
+typedef struct sl_voxel_grid {
+    int n[3];       /* voxels per axis */
+    float lo[3], h; /* corner and edge (world units) */
+    float *vox;     /* SL_VOX_FIELDS floats per voxel (kernels/voxel.h); x fastest */
+    size_t segments;
+    double seconds; /* C time or device time of the two passes */
+} sl_voxel_grid;
+
+/* Grid layout for hair (no allocation): the bounding box grown by the largest radius plus 1e-3 of
+ * its largest extent, `voxels` cells along the longest axis (cubic cells; the other axes get
+ * ceil(extent / h)); voxels < 1 means 64. Empty hair: one unit cell at the origin. */
+void sl_voxel_grid_layout(const sl_hair *hair, int voxels, sl_voxel_grid *g);
+/* Segment records (SL_VOX_SEG floats each: p0, r0, p1, r1) of every strand; *nseg gets their
+ * number. Free with free(). */
+float *sl_voxel_segments(const sl_hair *hair, size_t *nseg);
+/* The fixed-point scale of the accumulation (a power of two keeping every sum below 2^61). */
+float sl_voxel_scale(const float *segs, size_t nseg);
+/* Largest grid (voxels): the passes need 88 bytes per voxel (64-bit sums + the fields). */
+#define SL_VOXEL_MAX (1 << 25)
+/* Both passes on given segments into a laid-out grid g (allocates g->vox; a grid over
+ * SL_VOXEL_MAX voxels is an error naming quality.voxels). */
+int sl_voxelize_segments(sl_device *dev, const float *segs, size_t nseg, sl_voxel_grid *g,
+                         sl_err *e);
+/* Layout + segments + both passes. */
+int sl_voxelize(sl_device *dev, const sl_hair *hair, int voxels, sl_voxel_grid *g, sl_err *e);
+void sl_voxel_grid_free(sl_voxel_grid *g);
+
+typedef struct sl_march_opts {
+    int coarse;    /* voxels per coarse cell (Ren: 4) */
+    int paths;     /* shadow paths per vertex and lobe */
+    uint32_t seed; /* random streams: hash of (seed, vertex, lobe, path, step) */
+    int threads;   /* C path threads; 0 = every CPU (the textures do not depend on it) */
+} sl_march_opts;
+void sl_march_opts_default(sl_march_opts *o); /* coarse 4, paths 16, seed 1, threads 0 */
+
+/* Per-lobe 3-D textures of T_f and sigma_f (SL_MARCH_CH = 3 channels per vertex; a material with
+ * one channel has three equal ones). Vertices m[0] x m[1] x m[2] at lo + k H (x fastest);
+ * vertices with no hair within one coarse cell are not marched and hold T_f = 1, sigma_f = 0. */
+typedef struct sl_ftex {
+    int m[3];
+    float lo[3], H;
+    int nlobes;
+    size_t active;    /* vertices marched (per lobe) */
+    float *T, *sigma; /* nlobes * m[0] m[1] m[2] * SL_MARCH_CH each */
+    float *logT;      /* ln(max(T, 1e-30)) per texel (sl_ftex_lookup's log-space T_f), or NULL */
+    double seconds;   /* C time or device time of the march */
+} sl_ftex;
+
+/* Marches every active vertex toward each of nlobes lobe centres (dirs: 3 doubles per lobe,
+ * unit, toward the light). */
+int sl_march_build(sl_device *dev, const sl_voxel_grid *g, const sl_dual_tables *dt, int nlobes,
+                   const double *dirs, const sl_march_opts *o, sl_ftex *f, sl_err *e);
+/* T_f and sigma_f (3 channels each) of lobe at world point p (clamped to the grid): trilinear,
+ * T_f in log space (kernels/march.h sl_ftex_sample). */
+void sl_ftex_lookup(const sl_ftex *f, int lobe, const double p[3], float T[3], float sigma[3]);
+void sl_ftex_free(sl_ftex *f);
+
+/* Checks registered in host/verify/checks/kernel_checks.c (`strandlight kernels --only voxel|march|ms|dual`). */
+struct sl_kernel_check_opts;
+struct sl_kernel_check_result;
+int slchk_voxel(sl_cl *cl, const struct sl_kernel_check_opts *o, struct sl_kernel_check_result *r,
+                sl_err *e);
+int slchk_march(sl_cl *cl, const struct sl_kernel_check_opts *o, struct sl_kernel_check_result *r,
+                sl_err *e);
+int slchk_ms_response(sl_cl *cl, const struct sl_kernel_check_opts *o,
+                      struct sl_kernel_check_result *r, sl_err *e);
+int slchk_dual_table(sl_cl *cl, const struct sl_kernel_check_opts *o,
+                     struct sl_kernel_check_result *r, sl_err *e);
+
+#endif

@@ -1,0 +1,69 @@
+/* kernel_checks.h: the registry of "OpenCL kernel vs its C twin" checks that `strandlight
+ * kernels` runs. To add one: write `int slchk_NAME(sl_cl *cl, const sl_kernel_check_opts *o,
+ * sl_kernel_check_result *r, sl_err *e)` next to your driver (declare it in your header) and add
+ * a line to the table in host/verify/checks/kernel_checks.c (docs/opencl.md, "Adding a kernel pair"). */
+#ifndef SL_KERNEL_CHECKS_H
+#define SL_KERNEL_CHECKS_H
+
+#include "cl/clrt.h"
+
+typedef struct sl_kernel_check_opts {
+    long size;   /* problem size hint (check-specific meaning); 0: the check's default */
+    int reps;    /* timed repetitions (the best one is reported); >= 1 */
+    int extreme; /* 1: the check's extreme inputs (only checks with has_extreme read it) */
+} sl_kernel_check_opts;
+
+typedef struct sl_kernel_check_result {
+    char problem[64];        /* what ran, e.g. "1031x517 image" */
+    double max_abs, max_rel; /* kernel vs C twin, over all outputs */
+    double tol_abs, tol_rel; /* an output passes when |diff| <= tol_abs or <= tol_rel * |C| */
+    size_t compared, bad;    /* outputs compared, outputs outside the tolerance */
+    double c_s;              /* best C twin time, seconds */
+    double cl_s;             /* best kernel time (profiling events, else wall clock) */
+    int cl_s_is_device;      /* cl_s came from profiling events */
+    double cl_wall_s;        /* best wall time of the OpenCL call, transfers included */
+    int pass;
+    char note[256]; /* why the tolerance is what it is */
+} sl_kernel_check_result;
+
+/* Runs the check on cl and fills r (r->pass decides PASS/FAIL). Returns 0, or -1 / SL_CL_EKERNEL
+ * when it could not run at all (e set). */
+typedef int (*sl_kernel_check_fn)(sl_cl *cl, const sl_kernel_check_opts *o,
+                                  sl_kernel_check_result *r, sl_err *e);
+
+typedef struct sl_kernel_check {
+    const char *name; /* as given to --only */
+    const char *what; /* one line */
+    sl_kernel_check_fn run;
+    int has_extreme; /* the check generates its own extreme inputs when o->extreme is 1; the
+                        others are covered by the sl_kernel_extreme sweep */
+} sl_kernel_check;
+
+/* The registered checks, in run order. */
+const sl_kernel_check *sl_kernel_checks(size_t *count);
+const sl_kernel_check *sl_kernel_check_find(const char *name);
+
+/* Compares n kernel outputs against the C twin's with r->tol_abs / r->tol_rel already set: fills
+ * max_abs, max_rel, compared, bad and pass (bad == 0). NaN matches NaN, inf matches the same inf.
+ */
+void sl_kernel_compare(const float *kernel_out, const float *c_out, size_t n,
+                       sl_kernel_check_result *r);
+
+/* Deterministic pseudo-random floats in [lo, hi) from a seed (xorshift64*), for check inputs. */
+void sl_kernel_check_fill(float *x, size_t n, unsigned long long seed, float lo, float hi);
+
+/* `strandlight kernels --extreme`: degenerate geometry (zero-length segments, coincident
+ * strands, a hair collapsed to a point, far from the origin, one strand; lookups inside and far
+ * outside the hair; 2-texel maps; sharp and broad lobes) and extreme materials at grazing
+ * directions, on the C path and, when cl is non-NULL, on the OpenCL kernels. Prints one
+ * "extreme ... PASS|FAIL" line per case to out; returns the number of failed cases (any NaN/Inf
+ * output, T outside [0, 1], or an error). */
+int sl_kernel_extreme(sl_cl *cl, FILE *out);
+
+/* The checks (one per kernel pair). */
+int slchk_prefix_sum(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r,
+                     sl_err *e);
+int slchk_prefix_sum_serial(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r,
+                            sl_err *e);
+
+#endif

@@ -1,0 +1,50 @@
+/* eval_scene.c: see eval_scene.h. */
+#include "verify/eval/eval_scene.h"
+
+#include "lighting/env_lighting.h"
+#include "scene/scene_hair.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+int sl_eval_scene_lobes(const sl_scene *s, size_t n, const double *rows, const long *line_no,
+                        sl_lobes *lobes, sl_err *e) {
+    if (sl_scene_lobes(s, 0, lobes, e)) return -1;
+    sl_lobes_transform(lobes, s->env_rotation_deg, 1.0);
+    for (size_t i = 0; i < n; i++)
+        if (rows[4 * i + 3] >= lobes->count)
+            return sl_fail(
+                e, "<stdin>:%ld: lobe: %.0f is out of range (the scene has %d lobes, 0..%d)",
+                line_no ? line_no[i] : (long)i + 2, rows[4 * i + 3], lobes->count,
+                lobes->count - 1);
+    return 0;
+}
+
+int sl_eval_scene_load(const char *path, sl_eval_scene_check check, size_t n, const double *rows,
+                       const long *line_no, sl_eval_scene_data *d, sl_err *e) {
+    memset(d, 0, sizeof *d);
+    d->scene = sl_malloc(sizeof *d->scene);
+    if (sl_scene_load(path, d->scene, e) || (check && check(d->scene, path, e)) ||
+        sl_eval_scene_lobes(d->scene, n, rows, line_no, &d->lobes, e) ||
+        sl_scene_load_hair(d->scene, &d->hair, e)) {
+        sl_eval_scene_free(d);
+        return -1;
+    }
+    return 0;
+}
+
+void sl_eval_scene_free(sl_eval_scene_data *d) {
+    sl_lobes_free(&d->lobes);
+    sl_hair_free(&d->hair);
+    free(d->scene);
+    memset(d, 0, sizeof *d);
+}
+
+int sl_eval_scene_device(sl_eval_backend b, sl_cl *cl, sl_device *dev, sl_err *e) {
+    memset(dev, 0, sizeof *dev);
+    if (b != SL_EVAL_OPENCL) return 0;
+    if (!cl) return sl_fail(e, "eval: --backend opencl needs a device");
+    dev->is_opencl = 1;
+    dev->cl = cl;
+    return 0;
+}

@@ -1,0 +1,226 @@
+/* test_march.c: the shadow-path march (kernels/march.h, cpu/march_c.c, host/passes/volume/march_cl.c,
+ * host/passes/volume/volume.c) and its fiber-exact reference (cpu/reference/march_ref.c), on slabs of parallel
+ * fibers where T_f and sigma_f have closed forms (docs/volume.md), and kernel vs C twin. */
+#include "test.h"
+
+#include "march_fixture.h"
+
+#include "passes/volume/dual.h"
+#include "dual_ref.h"
+#include "march.h"
+#include "march_ref.h"
+#include "passes/volume/volume.h"
+#include "voxel.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *test_device(void) {
+    const char *v = getenv("SL_TEST_DEVICE");
+    return v && v[0] ? v : "pocl";
+}
+
+/* Lattice slab: fibers along x over [-0.5, 4.5], at y = (i + 1/2) 0.05 (i < 80, y in [0, 4)) and
+ * z = (k + 1/2) 0.05 (k < 20, z in [0, 1)): n = 400 per unit area, radius 0.002, so sigma_perp =
+ * 2 r n = 1.6 (numerics.md sec. 7). */
+static float *lattice_slab(size_t *nseg) {
+    float *s = sl_malloc(80 * 20 * SL_VOX_SEG * sizeof *s);
+    size_t n = 0;
+    for (int i = 0; i < 80; i++)
+        for (int k = 0; k < 20; k++) {
+            float y = (i + 0.5f) * 0.05f, z = (k + 0.5f) * 0.05f;
+            float rec[SL_VOX_SEG] = {-0.5f, y, z, 0.002f, 4.5f, y, z, 0.002f};
+            memcpy(s + n++ * SL_VOX_SEG, rec, sizeof rec);
+        }
+    *nseg = n;
+    return s;
+}
+
+/* The lattice slab voxelized on a grid of 16 x 16 x 8 voxels of h = 0.25 from the origin, with
+ * the default material and its dual tables. */
+typedef struct slab_grid {
+    float *segs;
+    sl_voxel_grid g;
+    sl_material m;
+    sl_dual_tables dt;
+} slab_grid;
+
+static void slab_grid_setup(slab_grid *s) {
+    sl_err e = {{0}};
+    size_t ns;
+    s->segs = lattice_slab(&ns);
+    memset(&s->g, 0, sizeof s->g);
+    s->g.n[0] = s->g.n[1] = 16;
+    s->g.n[2] = 8;
+    s->g.h = 0.25f;
+    CHECK(sl_voxelize_segments(NULL, s->segs, ns, &s->g, &e) == 0);
+    sl_material_default(&s->m);
+    CHECK(sl_dual_tables_build(&s->m, &s->dt, &e) == 0);
+}
+
+static void slab_grid_free(slab_grid *s) {
+    sl_voxel_grid_free(&s->g);
+    free(s->segs);
+}
+
+/* The march on the lattice slab lit from +z (perpendicular to the fibers, theta = 0 at every
+ * event). Grid 16 x 16 x 8 voxels of h = 0.25 from the origin (slab: voxel rows z < 1), coarse
+ * cells of 2 voxels: vertices at z = 0 (depth d = 1) and z = 0.5 (d = 0.5). Steps of delta = h/2
+ * with jittered starts: exactly M = d / delta of them fall in the slab, each an event with
+ * probability P = 1 - exp(-1.6 delta); so K ~ Binomial(M, P) and, with a = a_f(0), b = beta_f(0):
+ *     E[T_f] = (1 - P + P a)^M,   sigma_f^2 = E[a^K K] b^2 / E[a^K] = M P a b^2 / (1 - P + P a).
+ * Interior vertices (9 per depth) x 512 paths are averaged; the tolerance is 4 standard errors of
+ * the mean of a^K plus the float table's 1e-4. */
+TEST(march_slab_binomial) {
+    sl_err e = {{0}};
+    slab_grid s;
+    slab_grid_setup(&s);
+    sl_march_opts o = {2, 512, 5, 1};
+    double dir[3] = {0, 0, 1};
+    sl_ftex f;
+    CHECK(sl_march_build(NULL, &s.g, &s.dt, 1, dir, &o, &f, &e) == 0);
+    double ref[9];
+    slref_dual_terms(&s.m, 0, 0.0, ref);
+    double a = ref[SLREF_DUAL_AF], b = ref[SLREF_DUAL_BETA_F];
+    double P = 1 - exp(-1.6 * 0.125);
+    for (int depth = 0; depth < 2; depth++) {
+        int M = depth == 0 ? 8 : 4, kz = depth; /* vertex z = 0.5 kz */
+        double ET = pow(1 - P + P * a, M), ET2 = pow(1 - P + P * a * a, M);
+        double s2 = M * P * a * b * b / (1 - P + P * a);
+        double se = sqrt((ET2 - ET * ET) / (9 * 512));
+        double sumT = 0, sumS = 0;
+        int cnt = 0;
+        for (int j = 1; j < f.m[1] - 1; j++)
+            for (int i = 1; i < f.m[0] - 1; i++) {
+                if (i > 3 || j > 3) continue; /* 3 x 3 interior vertices */
+                size_t v = ((size_t)kz * f.m[1] + j) * f.m[0] + i;
+                sumT += f.T[v * SL_MARCH_CH];
+                sumS += f.sigma[v * SL_MARCH_CH] * f.sigma[v * SL_MARCH_CH];
+                CHECK(f.T[v * SL_MARCH_CH + 1] == f.T[v * SL_MARCH_CH]); /* grey material */
+                cnt++;
+            }
+        CHECK(cnt == 9);
+        if (getenv("SL_TEST_VERBOSE"))
+            fprintf(stderr, "  d=%g: T_f %.5f exact %.5f (se %.5f), sigma_f^2 %.6f exact %.6f\n",
+                    depth == 0 ? 1.0 : 0.5, sumT / cnt, ET, se, sumS / cnt, s2);
+        CHECK_MSG(fabs(sumT / cnt - ET) <= 4 * se + 1e-4, "d=%g: T_f %g vs %g (se %g)",
+                  depth == 0 ? 1.0 : 0.5, sumT / cnt, ET, se);
+        /* sigma_f^2: a ratio estimate; 5 % (its spread over 4608 paths is ~1 %). */
+        CHECK_MSG(fabs(sumS / cnt - s2) <= 0.05 * s2, "d=%g: sigma_f^2 %g vs %g",
+                  depth == 0 ? 1.0 : 0.5, sumS / cnt, s2);
+    }
+    /* Above the slab (z = 1, 1.5): no fibers on the path, T_f = 1 exactly, sigma_f = 0. */
+    size_t v = ((size_t)3 * f.m[1] + 2) * f.m[0] + 2;
+    CHECK(f.T[v * SL_MARCH_CH] == 1.0f && f.sigma[v * SL_MARCH_CH] == 0.0f);
+    /* Lookup halfway between depths 1 and 0.5: T_f interpolates in log space (the geometric mean
+     * of the two vertices), sigma_f linearly. */
+    double p[3] = {1.0, 1.0, 0.25};
+    float T[3], S[3];
+    sl_ftex_lookup(&f, 0, p, T, S);
+    size_t v0 = ((size_t)0 * f.m[1] + 2) * f.m[0] + 2, v1 = ((size_t)1 * f.m[1] + 2) * f.m[0] + 2;
+    CHECK_NEAR(T[0], sqrt((double)f.T[v0 * SL_MARCH_CH] * f.T[v1 * SL_MARCH_CH]), 1e-6);
+    CHECK_NEAR(S[0], 0.5 * (f.sigma[v0 * SL_MARCH_CH] + f.sigma[v1 * SL_MARCH_CH]), 1e-6);
+    sl_ftex_free(&f);
+    slab_grid_free(&s);
+}
+
+/* Deterministic: the same seed gives the same textures; another seed different ones. */
+TEST(march_seeded) {
+    sl_err e = {{0}};
+    slab_grid s;
+    slab_grid_setup(&s);
+    double dir[3] = {0.3, 0.2, 0.9327379};
+    sl_march_opts o = {4, 4, 1, 1};
+    sl_ftex f1, f2, f3;
+    CHECK(sl_march_build(NULL, &s.g, &s.dt, 1, dir, &o, &f1, &e) == 0);
+    CHECK(sl_march_build(NULL, &s.g, &s.dt, 1, dir, &o, &f2, &e) == 0);
+    o.seed = 2;
+    CHECK(sl_march_build(NULL, &s.g, &s.dt, 1, dir, &o, &f3, &e) == 0);
+    size_t nv = (size_t)f1.m[0] * f1.m[1] * f1.m[2] * SL_MARCH_CH;
+    CHECK(memcmp(f1.T, f2.T, nv * sizeof(float)) == 0);
+    CHECK(memcmp(f1.T, f3.T, nv * sizeof(float)) != 0);
+    sl_ftex_free(&f1);
+    sl_ftex_free(&f2);
+    sl_ftex_free(&f3);
+    slab_grid_free(&s);
+}
+
+/* The reference on a lattice of 6 layers of fibers along x (z = 0.1 k, y = 0.05 i): a ray from
+ * below through a fiber column crosses exactly N = 6 fibers, all at the inclination theta0 of the
+ * ray to the fibers' normal plane: T_f = a_f(theta0)^6, sigma_f = sqrt(6) beta_f(theta0). */
+TEST(march_reference_lattice) {
+    sl_hair h;
+    memset(&h, 0, sizeof h);
+    sl_hair_alloc(&h, 60, 180);
+    for (int s = 0; s < 60; s++) {
+        h.strand_first[s] = 3 * s;
+        for (int p = 0; p < 3; p++) {
+            float *q = h.pos + 3 * (3 * s + p);
+            q[0] = -3.0f + 3.0f * p;
+            q[1] = (s % 10) * 0.05f;
+            q[2] = (s / 10) * 0.1f;
+        }
+    }
+    h.strand_first[60] = 180;
+    h.default_radius = 0.01f;
+    sl_material m;
+    sl_material_default(&m);
+    double th0s[2] = {0.0, 0.6};
+    for (int t = 0; t < 2; t++) {
+        double th0 = th0s[t];
+        /* x between the strand's two segments' joint and not at it: x = 0.7. */
+        double x[3] = {0.7, 0.2 + 0.004, -0.5}, w[3] = {sin(th0), 0, cos(th0)}, theta[16];
+        size_t n = slref_march_events(&h, x, w, theta, 16);
+        CHECK(n == 6);
+        for (size_t k = 0; k < n && k < 16; k++)
+            CHECK_NEAR(theta[k], th0, 1e-12);
+        double Tf, sf, ref[9];
+        slref_forward_from_events(&m, 0, theta, n, NULL, &Tf, &sf);
+        slref_dual_terms(&m, 0, th0, ref);
+        CHECK_REL(Tf, pow(ref[SLREF_DUAL_AF], 6), 1e-12);
+        CHECK_REL(sf, sqrt(6.0) * ref[SLREF_DUAL_BETA_F], 1e-12);
+    }
+    /* A ray through the joint of two segments of one strand is one event per strand, not two. */
+    double x[3] = {0.0, 0.2, -0.5}, w[3] = {0, 0, 1}, theta[16];
+    CHECK(slref_march_events(&h, x, w, theta, 16) == 6);
+    /* A ray between the columns (y = 0.225, 0.025 from each) meets nothing; one starting inside
+     * a fiber ignores that fiber. */
+    double x2[3] = {0.7, 0.225, -0.5}, x3[3] = {0.7, 0.2, 0.1};
+    CHECK(slref_march_events(&h, x2, w, theta, 16) == 0);
+    CHECK(slref_march_events(&h, x3, w, theta, 16) == 4);
+    sl_hair_free(&h);
+}
+
+TEST(march_opencl_vs_c) {
+    sl_err e = {{0}};
+    sl_device dev;
+    if (sl_device_open(test_device(), &dev, &e)) SKIP(e.msg);
+    march_wavy w;
+    const double sa[3] = {0.2, 0.5, 1.1};
+    march_wavy_setup(&w, sa);
+    sl_march_opts o = {4, 8, 3, 1};
+    sl_ftex a, b;
+    CHECK(sl_march_build(&dev, &w.g, &w.dt, 2, w.dirs, &o, &a, &e) == 0);
+    CHECK(sl_march_build(NULL, &w.g, &w.dt, 2, w.dirs, &o, &b, &e) == 0);
+    CHECK(a.active == b.active && a.active > 0);
+    size_t nv = (size_t)a.m[0] * a.m[1] * a.m[2] * SL_MARCH_CH * 2, bad = 0;
+    double worst = 0;
+    for (size_t i = 0; i < nv; i++) {
+        double d = fmax(fabs(a.T[i] - b.T[i]), fabs(a.sigma[i] - b.sigma[i]));
+        if (d > worst) worst = d;
+        if (d > 1e-4) bad++;
+    }
+    /* Same random numbers, same float steps; the device's exp/asin/log may differ by a few ulp,
+     * which can flip an event decision when a uniform lies within ~1e-7 of P: at most 1 in 1000
+     * values may differ by more than 1e-4 (one path of 8 changed). */
+    if (getenv("SL_TEST_VERBOSE"))
+        fprintf(stderr, "  march kernel vs C: %zu of %zu differ by > 1e-4, worst %g\n", bad, nv,
+                worst);
+    CHECK_MSG(bad * 1000 <= nv, "%zu of %zu values differ by > 1e-4 (worst %g)", bad, nv, worst);
+    sl_ftex_free(&a);
+    sl_ftex_free(&b);
+    march_wavy_free(&w);
+    sl_device_close(&dev);
+}
