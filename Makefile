@@ -70,7 +70,7 @@ test-farm: all
 	bash test/farm/run.sh $(BUILD)
 
 bench: all
-	bash test/bench.sh $(BUILD)
+	bash test/bench/bench.sh $(BUILD)
 
 # Builds every libFuzzer target (build-fuzz/); with FUZZ_SECONDS=N also runs each for N s on a
 # copy of its seed corpus (test/cli/test_fuzz.sh) and fails when any target finds a crash.

@@ -706,9 +706,13 @@ int sl_cl_fault(void) {
 
 /* The enqueue and lost faults interpose the OpenCL entry points the drivers call (this
  * definition in the executable wins over libOpenCL's; the real one is found with RTLD_NEXT), so
- * no driver needs to know about them. Without SL_CL_FAULT they only forward. Process-wide state
- * (tests only): the number of kernel enqueues seen in "lost" mode. */
+ * no driver needs to know about them. Without SL_CL_FAULT they only forward (and count the
+ * kernel enqueues). Process-wide state (tests only): the number of kernel enqueues seen in "lost"
+ * mode, and the successful kernel enqueues. */
 static atomic_int lost_enqueues;
+static atomic_ulong kernels_enqueued; /* successful kernel enqueues (sl_cl_kernels_enqueued) */
+
+unsigned long sl_cl_kernels_enqueued(void) { return atomic_load(&kernels_enqueued); }
 
 typedef cl_int (*ndrange_fn)(cl_command_queue, cl_kernel, cl_uint, const size_t *, const size_t *,
                              const size_t *, cl_uint, const cl_event *, cl_event *);
@@ -737,7 +741,9 @@ CL_API_ENTRY cl_int CL_API_CALL clEnqueueNDRangeKernel(cl_command_queue q, cl_ke
     if (f != CL_SUCCESS) return f;
     ndrange_fn real = (ndrange_fn)dlsym(RTLD_NEXT, "clEnqueueNDRangeKernel");
     if (!real) return CL_INVALID_OPERATION;
-    return real(q, k, dim, offset, global, local, nwait, wait, ev);
+    cl_int err = real(q, k, dim, offset, global, local, nwait, wait, ev);
+    if (err == CL_SUCCESS) atomic_fetch_add(&kernels_enqueued, 1);
+    return err;
 }
 
 CL_API_ENTRY cl_int CL_API_CALL clEnqueueReadBuffer(cl_command_queue q, cl_mem buf,

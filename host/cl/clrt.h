@@ -87,6 +87,12 @@ const char *sl_cl_kernel_dir(const sl_cl *cl);
  * loaded from the disk cache, and seconds spent in those builds. Any pointer may be NULL. */
 void sl_cl_build_stats(const sl_cl *cl, int *from_source, int *from_cache, double *build_s);
 
+/* Kernel enqueues that succeeded in this process (every clEnqueueNDRangeKernel, whatever the
+ * caller: the count is kept in the interposed entry point below), for tests: an OpenCL-vs-C
+ * test takes it before its OpenCL run and checks that it grew, so a run that quietly went to
+ * the C path fails. */
+unsigned long sl_cl_kernels_enqueued(void);
+
 /* Fault injection, for tests only (docs/robustness.md): SL_CL_FAULT=build makes every program
  * build of a device opened afterwards fail (SL_CL_EKERNEL, "... (simulated: SL_CL_FAULT=build)");
  * =enqueue makes every clEnqueueNDRangeKernel return CL_OUT_OF_RESOURCES; =lost lets the first

@@ -10,6 +10,8 @@
 #include "passes/light/prefix_sum_cl.h"
 #include "test.h"
 
+#include "cl_fixture.h"
+
 #include <dirent.h>
 #include <stdlib.h>
 #include <string.h>
@@ -154,6 +156,8 @@ static void fallback_case(const char *fault) {
     if (open_faulty("auto", fault, &dev, &e)) {
         unsetenv("SL_CL_FAULT");
         free(in), free(out), free(ref);
+        /* a FAIL outranks the SKIP */
+        CHECK_MSG(!sl_test_cl_listed(), "an OpenCL device is listed but not usable: %s", e.msg);
         SKIP(e.msg);
     }
     int rc = sl_prefix_sum_2d(&dev, in, out, W, H, &e);
@@ -182,11 +186,12 @@ TEST(robust_cl_fault_explicit_fails_cleanly) {
     enum { W = 64, H = 8 };
     float in[W * H], out[W * H];
     ps_input(in, W * H);
-    const char *spec = getenv("SL_TEST_DEVICE") ? getenv("SL_TEST_DEVICE") : "pocl";
+    const char *spec = sl_test_cl_spec();
     sl_device dev;
     sl_err e = {{0}};
     if (open_faulty(spec, "enqueue", &dev, &e)) {
         unsetenv("SL_CL_FAULT");
+        CHECK_MSG(!sl_test_cl_listed(), "an OpenCL device is listed but not usable: %s", e.msg);
         SKIP(e.msg);
     }
     int rc = sl_prefix_sum_2d(&dev, in, out, W, H, &e);

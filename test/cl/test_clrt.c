@@ -1,8 +1,11 @@
 /* test_clrt.c: the OpenCL runtime (host/cl/clrt.c, host/cl/clrt_cache.c): --device parsing, kernel and
  * cache directory lookup, the on-disk program cache (hit, miss, corrupt entries, atomic writes),
  * build failures and the C fallback under auto, timing. Tests that need an OpenCL device use
- * PoCL (or $SL_TEST_DEVICE) and SKIP with the reason when there is none. */
+ * the test device (cl_fixture.h: $SL_TEST_DEVICE, else a GPU, else PoCL) and SKIP with the
+ * reason when there is none. */
 #include "test.h"
+
+#include "cl_fixture.h"
 
 #include "../cpu/prefix_sum.h"
 #include "cl/clrt.h"
@@ -37,11 +40,6 @@ static void env_restore(const saved_env *s) {
         setenv(s->name, s->value, 1);
     else
         unsetenv(s->name);
-}
-
-static const char *device_spec(void) {
-    const char *v = getenv("SL_TEST_DEVICE");
-    return v && *v ? v : "pocl";
 }
 
 /* A fresh directory under the test tmpdir. */
@@ -230,9 +228,10 @@ TEST(clrt_disk_cache) {
     setenv("SL_CACHE_DIR", dir, 1);
     sl_device dev;
     sl_err e = {{0}};
-    if (sl_device_open(device_spec(), &dev, &e)) {
+    int cl_rc = sl_test_open_cl(&dev, &e);
+    if (cl_rc) {
         env_restore(&s);
-        SKIP(e.msg);
+        SL_TEST_CL_LEAVE(cl_rc, &e);
     }
     cl_kernel k1 = NULL, k2 = NULL, k3 = NULL;
     int src = -1, hit = -1;
@@ -255,7 +254,7 @@ TEST(clrt_disk_cache) {
     sl_device_close(&dev);
 
     /* Reopen: both come from disk now, and the cached program computes correctly. */
-    CHECK(sl_device_open(device_spec(), &dev, &e) == 0);
+    CHECK(sl_device_open(sl_test_cl_spec(), &dev, &e) == 0);
     if (dev.is_opencl) {
         float in[6] = {1, 2, 3, 4, 5, 6}, out[6] = {0};
         CHECK(slcl_prefix_sum_2d(dev.cl, in, out, 3, 2, NULL, &e) == 0);
@@ -296,13 +295,13 @@ TEST(clrt_disk_cache) {
             free(data);
         }
         if (d) closedir(d);
-        CHECK(sl_device_open(device_spec(), &dev, &e) == 0);
+        CHECK(sl_device_open(sl_test_cl_spec(), &dev, &e) == 0);
         CHECK(sl_cl_get_kernel(dev.cl, "prefix_sum.cl", "sl_transpose", NULL, &k1, &e) == 0);
         sl_cl_build_stats(dev.cl, &src, &hit, NULL);
         CHECK_MSG(src == 1 && hit == 0, "round %d: from source %d, from cache %d", round, src, hit);
         sl_device_close(&dev);
         /* ... and the rewritten entry is good again. */
-        CHECK(sl_device_open(device_spec(), &dev, &e) == 0);
+        CHECK(sl_device_open(sl_test_cl_spec(), &dev, &e) == 0);
         CHECK(sl_cl_get_kernel(dev.cl, "prefix_sum.cl", "sl_transpose", NULL, &k1, &e) == 0);
         sl_cl_build_stats(dev.cl, &src, &hit, NULL);
         CHECK_MSG(src == 0 && hit == 1, "round %d: from source %d, from cache %d", round, src, hit);
@@ -315,7 +314,7 @@ TEST(clrt_disk_cache) {
 TEST(clrt_missing_kernel_and_file) {
     sl_device dev;
     sl_err e = {{0}};
-    if (sl_device_open(device_spec(), &dev, &e)) SKIP(e.msg);
+    SL_TEST_OPEN_CL(&dev, &e);
     cl_kernel k = NULL;
     CHECK(sl_cl_get_kernel(dev.cl, "no_such_file.cl", "x", NULL, &k, &e) == SL_CL_EKERNEL);
     CHECK(k == NULL);
@@ -339,9 +338,10 @@ TEST(clrt_build_failure_explicit) {
     setenv("STRANDLIGHT_KERNELS", dir, 1);
     sl_device dev;
     sl_err e = {{0}};
-    if (sl_device_open(device_spec(), &dev, &e)) {
+    int cl_rc = sl_test_open_cl(&dev, &e);
+    if (cl_rc) {
         env_restore(&s);
-        SKIP(e.msg);
+        SL_TEST_CL_LEAVE(cl_rc, &e);
     }
     captured c;
     capture_start(&c, "clrt_build_failure_explicit");
@@ -388,6 +388,8 @@ TEST(clrt_build_failure_auto_falls_back) {
     if (open_rc == 0 && !was_opencl) {
         free(log);
         sl_device_close(&dev);
+        /* a FAIL outranks the SKIP */
+        CHECK_MSG(!sl_test_cl_listed(), "auto chose the C path though an OpenCL device is listed");
         SKIP("auto chose the C path: no OpenCL device to fall back from");
     }
     CHECK(open_rc == 0);
@@ -406,7 +408,7 @@ TEST(clrt_build_failure_auto_falls_back) {
 TEST(clrt_device_facts_and_timer) {
     sl_device dev;
     sl_err e = {{0}};
-    if (sl_device_open(device_spec(), &dev, &e)) SKIP(e.msg);
+    SL_TEST_OPEN_CL(&dev, &e);
     CHECK(dev.is_opencl && dev.cl);
     CHECK(sl_cl_context(dev.cl) && sl_cl_queue(dev.cl) && sl_cl_device_id(dev.cl));
     CHECK(strlen(sl_cl_device_name(dev.cl)) > 0);

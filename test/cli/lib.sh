@@ -10,6 +10,31 @@ fail() { echo "FAIL $1: $2"; }
 skip() { echo "SKIP $1: $2"; }
 have_shared() { [ -d "$SHARED" ]; }
 
+# The OpenCL device of every OpenCL check, chosen once (as the unit tests' test/cl_fixture.h):
+# $SL_TEST_DEVICE when set, else gpu when `strandlight devices` lists a GPU, else pocl when it
+# lists a PoCL platform, else opencl (any device). SL_CL_LISTED=1 when it lists any OpenCL device
+# (or SL_TEST_DEVICE names one): an OpenCL check that could not use the device then fails
+# instead of skipping (cl_skip). test/run.sh exports both, so the scripts need not ask again.
+if [ -z "${SL_CL_DEVICE:-}" ]; then
+    _devs=$("$SL" devices 2>/dev/null)
+    SL_CL_LISTED=0
+    if printf '%s\n' "$_devs" | grep -q '^\* device '; then SL_CL_LISTED=1; fi
+    if [ -n "${SL_TEST_DEVICE:-}" ]; then SL_CL_DEVICE=$SL_TEST_DEVICE; SL_CL_LISTED=1
+    elif printf '%s\n' "$_devs" | grep -q '^ *type GPU'; then SL_CL_DEVICE=gpu
+    elif printf '%s\n' "$_devs" | grep -q '\[PoCL\]'; then SL_CL_DEVICE=pocl
+    else SL_CL_DEVICE=opencl; fi
+    if [ "$SL_CL_DEVICE" = c ]; then SL_CL_LISTED=0; fi # SL_TEST_DEVICE=c: no OpenCL checks
+    unset _devs
+fi
+: "${SL_CL_LISTED:=0}"
+have_cl() { [ "$SL_CL_LISTED" = 1 ]; }
+# cl_skip NAME WHY: an OpenCL check that did not run: SKIP without an OpenCL device, FAIL when
+# one is listed (the check should have used it).
+cl_skip() {
+    if have_cl; then fail "$1" "an OpenCL device is listed (--device $SL_CL_DEVICE) but the check could not use it: $2"
+    else skip "$1" "$2"; fi
+}
+
 # expect_error NAME EXPECTED_SUBSTRING CMD...: CMD must exit 1 with one stderr line containing
 # the substring, must not crash (no signal exit) and must print nothing else to stderr.
 expect_error() {

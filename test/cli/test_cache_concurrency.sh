@@ -44,19 +44,19 @@ else fail cache_conc_render_entries_valid "rc=$rc $(printf '%s' "$out" | head -3
 no_leftovers cache_conc_render_no_temp "$SL_CACHE_DIR"
 
 # OpenCL program binaries: two `kernels` runs on an empty program cache at once.
-if "$SL" kernels --only prefix_sum_serial --size 16 --reps 1 2>/dev/null | grep -q 'SKIP (no OpenCL'; then
+if ! have_cl; then
     skip cache_conc_kernels "no OpenCL device"
 else
     export SL_CACHE_DIR="$D/clcache"
     pids=""
     for i in 1 2; do
-        "$SL" kernels --only prefix_sum_serial --size 64 --reps 1 >"$D/k$i.log" 2>&1 &
+        "$SL" kernels --device "$SL_CL_DEVICE" --only prefix_sum_serial --size 64 --reps 1 >"$D/k$i.log" 2>&1 &
         pids="$pids $!"
     done
     ok=1
     for p in $pids; do wait "$p" || ok=0; done
     if [ "$ok" -ne 1 ]; then fail cache_conc_kernels_all_ok "$(cat "$D"/k*.log | tail -n 2)"; else pass cache_conc_kernels_all_ok; fi
-    out=$("$SL" kernels --only prefix_sum_serial --size 64 --reps 1 2>&1); rc=$?
+    out=$("$SL" kernels --device "$SL_CL_DEVICE" --only prefix_sum_serial --size 64 --reps 1 2>&1); rc=$?
     if [ $rc -eq 0 ] && printf '%s' "$out" | grep -q "0 built from source, 1 from the disk cache"; then
         pass cache_conc_kernels_entries_valid
     else fail cache_conc_kernels_entries_valid "rc=$rc $(printf '%s' "$out" | tail -1)"; fi

@@ -286,20 +286,21 @@ for r in rows:
 EOF
 done
 
-# ---- opencl: same columns as c, values to float tolerance; skipped without a device ----
-out=$(ev "$D/fr.csv" scatter --backend opencl 2>&1 >"$D/fr.cl"); rc=$?
-if [ $rc -ne 0 ] && printf '%s' "$out" | grep -qi "no opencl"; then
-    skip eval_opencl_scatter "no OpenCL device: $out"
+# ---- opencl (the test device $SL_CL_DEVICE): same columns as c, values to float tolerance;
+# skipped without a device ----
+out=$(ev "$D/fr.csv" scatter --backend opencl --device "$SL_CL_DEVICE" 2>&1 >"$D/fr.cl"); rc=$?
+if [ $rc -ne 0 ] && printf '%s' "$out" | grep -qi "no opencl\|no GPU\|no PoCL"; then
+    cl_skip eval_opencl_scatter "no OpenCL device: $out"
 elif [ $rc -ne 0 ]; then
     fail eval_opencl_scatter "rc=$rc $out"
 else
     # same float math as c from the same header: the tolerances of the c checks above
     $PY "$D/fr.py" "$D/fr.cl" 2e-6 2>/dev/null && pass eval_opencl_scatter \
         || fail eval_opencl_scatter "$($PY "$D/fr.py" "$D/fr.cl" 2e-6 2>&1 | tail -1)"
-    ev "$D/mp.csv" deon-mp --backend opencl > "$D/mp.cl" 2>&1
+    ev "$D/mp.csv" deon-mp --backend opencl --device "$SL_CL_DEVICE" > "$D/mp.cl" 2>&1
     $PY "$D/mp.py" "$D/mp.cl" 5e-7 1e-6 -80 2>"$D/mp.cl.err" && pass eval_opencl_deon_mp \
         || fail eval_opencl_deon_mp "$(tail -1 "$D/mp.cl.err")"
-    ev "$D/furn.csv" furnace --backend opencl --material "$D/furn.json" > "$D/furn.cl" 2>&1
+    ev "$D/furn.csv" furnace --backend opencl --device "$SL_CL_DEVICE" --material "$D/furn.json" > "$D/furn.cl" 2>&1
     $PY - "$D/furn.cl" <<'EOF' 2>/dev/null && pass eval_opencl_furnace || fail eval_opencl_furnace "want 1 +- 1e-5: $(tr '\n' ' ' < "$D/furn.cl")"
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))

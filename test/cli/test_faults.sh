@@ -93,7 +93,7 @@ sweep faults_alloc_render_auto 3 "$D/out" /dev/null "$SL" render "$D/scene.json"
 # error naming the OpenCL error. `kernels` never falls back (docs/opencl.md): each check is a
 # FAIL line and the exit status 1, never a crash. render under auto must warn, fall back and
 # produce exactly the C path's image; render on an explicit device fails cleanly, no output.
-if "$SL" kernels --only prefix_sum_serial --size 16 --reps 1 2>/dev/null | grep -q 'SKIP (no OpenCL'; then
+if ! have_cl; then
     for f in build enqueue lost; do skip "faults_cl_$f" "no OpenCL device"; done
 else
     declare -A want=([build]="CL_BUILD_PROGRAM_FAILURE (-11) (simulated: SL_CL_FAULT=build)"
@@ -101,11 +101,11 @@ else
     rm -rf "$D/out"; "$SL" render "$D/scene.json" --device c 2>/dev/null; mv "$D/out" "$D/out.c"
     for f in build enqueue lost; do
         expect_error "faults_cl_${f}_eval_explicit" "${want[$f]}" \
-            env SL_CL_FAULT=$f "$SL" eval scatter --backend opencl <"$D/in.csv"
+            env SL_CL_FAULT=$f "$SL" eval scatter --backend opencl --device "$SL_CL_DEVICE" <"$D/in.csv"
         # kernels: build (it crashed there: a check's wrapper device released the sl_cl) and
         # enqueue; lost behaves like enqueue for it.
         if [ "$f" != lost ]; then
-            out=$(SL_CL_FAULT=$f "$SL" kernels --only raster --size 16 --reps 1 2>&1); rc=$?
+            out=$(SL_CL_FAULT=$f "$SL" kernels --device "$SL_CL_DEVICE" --only raster --size 16 --reps 1 2>&1); rc=$?
             if [ "$rc" -ne 1 ] || ! printf '%s' "$out" | grep -qF "FAIL: " ||
                 ! printf '%s' "$out" | grep -qF "${want[$f]}"; then
                 fail "faults_cl_${f}_kernels" "exit $rc: $(printf '%s' "$out" | tail -2)"
@@ -127,7 +127,7 @@ else
         [ "$f" = lost ] || continue # explicit render: once is enough (the same error path)
         rm -rf "$D/out"
         expect_error "faults_cl_${f}_render_explicit" "${want[$f]}" \
-            env SL_CL_FAULT=$f "$SL" render "$D/scene.json" --device pocl
+            env SL_CL_FAULT=$f "$SL" render "$D/scene.json" --device "$SL_CL_DEVICE"
         if [ -e "$D/out/f.exr" ] || [ -e "$D/out/f.png" ]; then
             fail "faults_cl_${f}_render_explicit_no_output" "$(ls "$D/out")"
         else
@@ -153,10 +153,10 @@ sweep_check() {
     fi
 }
 sweep_check extreme_sweep_c "$SL" kernels --device c --extreme
-if "$SL" kernels --only prefix_sum_serial --size 16 --reps 1 2>/dev/null | grep -q 'SKIP (no OpenCL'; then
+if ! have_cl; then
     skip extreme_sweep_opencl "no OpenCL device"
 else
-    sweep_check extreme_sweep_opencl "$SL" kernels --only prefix_sum_serial --size 16 --reps 1 --extreme
+    sweep_check extreme_sweep_opencl "$SL" kernels --device "$SL_CL_DEVICE" --only prefix_sum_serial --size 16 --reps 1 --extreme
 fi
 
 # render with a camera inside the hair, a camera looking away from it, a 1-pixel image: exit 0
@@ -207,10 +207,10 @@ SL_RENDER_MEM_MB=1 expect_error limits_render_budget_env "SL_RENDER_MEM_MB" \
 # host budget so that the device check is the one that fires. The K-buffer of 16384^2 pixels x
 # 64 layers x 16 B is 256 GiB, above the max allocation of any device made so far.
 sed 's/"camera"/"quality": {"oit_layers": 64}, "camera"/' "$D/scene.json" > "$D/scene_k64.json"
-if "$SL" devices 2>/dev/null | grep -q 'max allocation'; then
+if have_cl; then
     SL_RENDER_MEM_MB=100000000 expect_error limits_render_16k_device_max_alloc \
         "over the device's max allocation" \
-        "$SL" render "$D/scene_k64.json" --device opencl --width 16384 --height 16384
+        "$SL" render "$D/scene_k64.json" --device "$SL_CL_DEVICE" --width 16384 --height 16384
 else
     skip limits_render_16k_device_max_alloc "no OpenCL device"
 fi

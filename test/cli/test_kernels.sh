@@ -1,11 +1,12 @@
 # test_kernels.sh: `strandlight kernels --check` / `--bench` tables (docs/frame.md, docs/opencl.md):
 # the header columns, the K-buffer fill rows (specialised and generic builds, typical and extreme
-# inputs, bit-exact against the C twin), times only with --bench. SKIP without an OpenCL device.
+# inputs, bit-exact against the C twin), times only with --bench, on the test device
+# ($SL_CL_DEVICE, test/cli/lib.sh). SKIP without an OpenCL device.
 . test/cli/lib.sh
-out=$("$SL" kernels --only kbuffer --check --size 32 --reps 1 2>/dev/null); rc=$?
-if printf '%s' "$out" | grep -q 'SKIP (no OpenCL'; then
+if ! have_cl; then
     skip kernels_check_table "no OpenCL device"
 else
+    out=$("$SL" kernels --device "$SL_CL_DEVICE" --only kbuffer --check --size 32 --reps 1 2>/dev/null); rc=$?
     hdr=$(printf '%s\n' "$out" | grep '^kernel ')
     if [ $rc -eq 0 ] && printf '%s' "$hdr" | grep -q 'backend *cases *max_abs *max_rel *tolerance *result$'; then
         pass kernels_check_table
@@ -14,7 +15,7 @@ else
     if [ "$n" -eq 2 ]; then pass kernels_check_kbuffer_rows; else fail kernels_check_kbuffer_rows "$n rows: $out"; fi
     if printf '%s\n' "$out" | grep -q '^extreme '; then pass kernels_check_runs_extreme_sweep
     else fail kernels_check_runs_extreme_sweep "no extreme lines"; fi
-    out=$("$SL" kernels --only kbuffer_generic --bench --size 32 --reps 1 2>/dev/null); rc=$?
+    out=$("$SL" kernels --device "$SL_CL_DEVICE" --only kbuffer_generic --bench --size 32 --reps 1 2>/dev/null); rc=$?
     if [ $rc -eq 0 ] && printf '%s\n' "$out" | grep '^kernel ' | grep -q 'C_ms *CL_ms *CL_wall$' &&
        [ "$(printf '%s\n' "$out" | grep -c '^kbuffer_generic .*PASS  *[0-9.]* *[0-9.]*w* *[0-9.]*$')" -eq 2 ]; then
         pass kernels_bench_times

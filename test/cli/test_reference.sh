@@ -41,7 +41,8 @@ print("; ".join(bad))
 PYEOF
 )
 if [ -z "$msg" ]; then pass reference_json_fields; else fail reference_json_fields "$msg"; fi
-if "$SL" info "$D/a/ref.exr" 2>/dev/null | grep -q "TRT.B"; then pass reference_exr_channels; else skip reference_exr_channels "info does not list EXR channels"; fi
+if "$SL" info "$D/a/ref.exr" 2>/dev/null | grep -q "TRT.B"; then pass reference_exr_channels
+else fail reference_exr_channels "info does not list the EXR channel TRT.B: $("$SL" info "$D/a/ref.exr" 2>&1 | tr '\n' ' ' | cut -c1-200)"; fi
 
 # Cached: the same inputs give "cached" without rendering, and the EXR is untouched.
 before=$(stat -c %Y.%s "$D/a/ref.exr")

@@ -63,8 +63,8 @@ else fail srbf_narrow_limit "srbf $i scatter $f"; fi
 
 # C twin against the OpenCL kernel (same header; float rounding only: 1e-4 relative of I).
 for meth in xu fast; do
-    if ! oc=$("$SL" eval srbf --backend opencl --device pocl --method $meth < "$D/in.csv" 2>/dev/null); then
-        skip "srbf_c_vs_opencl_$meth" "no PoCL device"; continue
+    if ! oc=$("$SL" eval srbf --backend opencl --device "$SL_CL_DEVICE" --method $meth < "$D/in.csv" 2>"$D/oc.err"); then
+        cl_skip "srbf_c_vs_opencl_$meth" "$(tail -1 "$D/oc.err")"; continue
     fi
     cc=$("$SL" eval srbf --backend c --method $meth < "$D/in.csv")
     if "$PY" -c '

@@ -48,7 +48,7 @@ sys.exit(0 if a > 0 and abs(a - b) <= 1e-5 * a else 1)'; then pass srbf_deon_pol
 else fail srbf_deon_pole_phi_independent "$fast"; fi
 
 # C twin against the OpenCL kernel (same header; float rounding only: 1e-4 relative of I)
-if ! oc=$("$SL" eval srbf --backend opencl --device pocl --material "$D/deon.json" < "$D/in.csv" 2>/dev/null); then
-    skip srbf_deon_c_vs_opencl "no PoCL device"
+if ! oc=$("$SL" eval srbf --backend opencl --device "$SL_CL_DEVICE" --material "$D/deon.json" < "$D/in.csv" 2>"$D/oc.err"); then
+    cl_skip srbf_deon_c_vs_opencl "$(tail -1 "$D/oc.err")"
 elif "$PY" -c "$check" "$fast" "$oc" 1e-4; then pass srbf_deon_c_vs_opencl
 else fail srbf_deon_c_vs_opencl "c: $fast opencl: $oc"; fi

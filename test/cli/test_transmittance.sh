@@ -56,8 +56,9 @@ PYEOF
 
 # check NAME BACKEND TOL: the per-depth means of T against exp(-3 d).
 check() {
-    local name=$1 backend=$2 tol=$3 out
-    if ! out=$("$SL" eval transmittance --scene "$D/scene.json" --backend "$backend" < "$D/in.csv" 2>"$D/err"); then
+    local name=$1 backend=$2 tol=$3 out dev=()
+    [ "$backend" = opencl ] && dev=(--device "$SL_CL_DEVICE")
+    if ! out=$("$SL" eval transmittance --scene "$D/scene.json" --backend "$backend" "${dev[@]}" < "$D/in.csv" 2>"$D/err"); then
         fail "$name" "exit status $?: $(cat "$D/err")"; return
     fi
     local msg
@@ -76,7 +77,7 @@ print("; ".join(bad))' "$backend" "$tol")
 }
 check transmittance_slab_reference reference 0.07
 check transmittance_slab_c c 0.11
-if "$SL" devices 2>/dev/null | grep -q 'PoCL\|GPU'; then
+if have_cl; then
     check transmittance_slab_opencl opencl 0.11
 else
     skip transmittance_slab_opencl "no OpenCL device"
@@ -87,8 +88,9 @@ fi
 # at depth 0.3 is 0.04 wide either way). The two ranges are disjoint: lobes swapped or a lobe's
 # map given to the other fails.
 check3() {
-    local name=$1 backend=$2 out msg
-    if ! out=$("$SL" eval transmittance --scene "$D/scene3.json" --backend "$backend" < "$D/in3.csv" 2>"$D/err"); then
+    local name=$1 backend=$2 out msg dev=()
+    [ "$backend" = opencl ] && dev=(--device "$SL_CL_DEVICE")
+    if ! out=$("$SL" eval transmittance --scene "$D/scene3.json" --backend "$backend" "${dev[@]}" < "$D/in3.csv" 2>"$D/err"); then
         fail "$name" "exit status $?: $(cat "$D/err")"; return
     fi
     msg=$(printf '%s\n' "$out" | "$PY" -c '
@@ -104,7 +106,7 @@ print("; ".join(bad))' "$backend")
     if [ -n "$msg" ]; then fail "$name" "$msg"; else pass "$name"; fi
 }
 check3 transmittance_lobes_c c
-if "$SL" devices 2>/dev/null | grep -q 'PoCL\|GPU'; then
+if have_cl; then
     check3 transmittance_lobes_opencl opencl
 else
     skip transmittance_lobes_opencl "no OpenCL device"

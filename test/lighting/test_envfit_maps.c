@@ -1,5 +1,5 @@
 /* test_envfit_maps.c: fitting the shared environment maps (reduced to 256 x 128 to keep the
- * test fast; the full sweep over every map at full size is test/bench_fit.sh). */
+ * test fast; the full sweep over every map at full size is test/bench/bench_fit.sh). */
 #include "lighting/envfit.h"
 #include "test.h"
 

@@ -5,6 +5,8 @@
  * modes sum to the beauty), never from the code under test. */
 #include "test.h"
 
+#include "cl_fixture.h"
+
 #include "frame_fixture.h"
 #include "lighting/lobe_subdivide.h"
 #include "kbuffer.h"
@@ -320,10 +322,7 @@ TEST(frame_c_vs_opencl) {
      * kernel argument or a missing lobe is > 1e-2). */
     sl_device cl = {0};
     sl_err e;
-    if (sl_device_open("opencl", &cl, &e)) {
-        SKIP("no OpenCL device");
-        return;
-    }
+    SL_TEST_OPEN_CL(&cl, &e);
     frame_tiny t;
     CHECK(tiny_setup(&t, 150) == 0);
     sl_device c = {0};
@@ -333,7 +332,9 @@ TEST(frame_c_vs_opencl) {
     sl_renderer_init(&ro, &cl, NULL);
     sl_fbuf a, b;
     CHECK(frame_tiny_render(&rc, &t, &a) == 0);
+    unsigned long k0 = sl_cl_kernels_enqueued();
     CHECK(frame_tiny_render(&ro, &t, &b) == 0);
+    CHECK_CL_RAN(k0);
     double mx, md = frame_max_diff(&a, &b, &mx);
     CHECK(mx > 0);
     CHECK_MSG(md <= 1e-3 * mx, "max diff %g of max %g", md, mx);
@@ -352,10 +353,7 @@ TEST(frame_kbuffer_opencl_equals_c) {
      * the same order per pixel). */
     sl_device cl = {0};
     sl_err e;
-    if (sl_device_open("opencl", &cl, &e)) {
-        SKIP("no OpenCL device");
-        return;
-    }
+    SL_TEST_OPEN_CL(&cl, &e);
     uint32_t s = 11;
     slc_frag_list l = {0};
     for (uint32_t i = 0; i < 300; i++) {
@@ -368,7 +366,9 @@ TEST(frame_kbuffer_opencl_equals_c) {
     sl_kfrag *a = calloc(W * H * K, sizeof *a), *b = calloc(W * H * K, sizeof *b);
     uint8_t ca[W * H], cb[W * H];
     size_t ma = slc_kbuffer_build(&l, W, H, K, a, ca, 2), mb = 0;
+    unsigned long k0 = sl_cl_kernels_enqueued();
     CHECK(slcl_kbuffer_build(cl.cl, &l, W, H, K, b, cb, &mb, &e) == 0);
+    CHECK_CL_RAN(k0);
     CHECK(ma == mb && ma > 100);
     CHECK(memcmp(ca, cb, sizeof ca) == 0);
     int same = 1;
@@ -462,7 +462,7 @@ TEST(frame_paint_half_differs_only_where_painted) {
     /* strands with an odd index painted black (sigma_a 20): every pixel whose K-buffer entries
      * all belong to unpainted strands is bit-identical (nothing but their own shading reaches
      * them: MS uses the material's sigma_a, docs/frame.md); no pixel with a painted entry gets
-     * brighter and most get darker. SKIP while the shading ignores per-strand sigma_a. */
+     * brighter and most get darker. */
     paint_fx p;
     sl_err e;
     sl_fbuf b;
@@ -475,10 +475,8 @@ TEST(frame_paint_half_differs_only_where_painted) {
     frame_paint_tally y = frame_paint_compare(p.r, &p.t, &p.a, &b);
     sl_fbuf_free(&b);
     paint_end(&p);
-    if (!y.changed) {
-        SKIP("host/passes/shade/frame_shade.c does not read per-strand sigma_a yet (srbfspeed's pass)");
-        return;
-    }
+    CHECK_MSG(y.changed, "the painted frame equals the plain one: the shading ignores per-strand "
+                         "sigma_a");
     CHECK_MSG(y.clean > 100 && y.painted_px > 100, "clean %d, painted %d", y.clean, y.painted_px);
     CHECK(y.clean_same);
     CHECK_MSG(y.brighter == 0, "%d painted pixels brighter", y.brighter);
@@ -527,7 +525,7 @@ TEST(frame_threshold_keys_drive_the_planner) {
      * lobes' shares, luminance x pi lambda^2 (1 - exp(-4 / lambda^2)) in double: 0.063, 0.033,
      * 0.311, 0.592, so two go); quality.ms_auto_threshold 0 runs
      * MS for black hair, 1 skips it for white hair; quality.point_threshold 0.9 cuts the lobes
-     * evaluated per point (lobes AOV) unless the shading ignores it (SKIP). */
+     * evaluated per point (lobes AOV). */
     frame_tiny t;
     sl_device dev = {0};
     tiny_open(&t, 100, &dev);
@@ -564,11 +562,8 @@ TEST(frame_threshold_keys_drive_the_planner) {
     delete_renderer(r);
     frame_tiny_close(&t, &dev);
     CHECK(l0 > 0);
-    if (l1 == l0) {
-        SKIP("host/passes/shade/frame_shade.c does not read sl_shade_ctx.point_threshold yet");
-        return;
-    }
-    CHECK(l1 < l0);
+    CHECK_MSG(l1 < l0, "lobes AOV %g at point_threshold 0.9, %g at the default: the shading "
+                       "ignores quality.point_threshold", l1, l0);
 }
 
 TEST(frame_kbuffer_occlusion_exact) {
@@ -651,4 +646,38 @@ TEST(frame_estimate_covers_allocations) {
     sl_fbuf_free(&a);
     delete_renderer(r);
     frame_tiny_close(&t, &dev);
+}
+
+TEST(frame_estimate_matches_sizes) {
+    /* the estimate's parts follow the scene's settings: K-buffer bytes scale with oit_layers,
+     * maps with shadow_size^2 x layers, per the size rules the passes allocate with */
+    sl_scene s;
+    sl_scene_default(&s);
+    s.width = 100, s.height = 50, s.voxels = 4, s.lobes = 1, s.layers = 4, s.shadow_size = 16;
+    s.oit_layers = 4;
+    s.broad_lobes = SL_BROAD_SPLIT; /* subdivision's budget: checked at the end */
+    double a = (double)sl_frame_estimate_bytes(&s, 0);
+    s.oit_layers = 8;
+    double b = (double)sl_frame_estimate_bytes(&s, 0);
+    /* per pixel and layer: one sl_kfrag, one uint32 shade-map slot and one shading point
+     * (pos 24 + tan 12 + strand 4 + T 4 per lobe + 14 floats out = 100 B) */
+    CHECK_NEAR(b - a, 5000.0 * 4 * (sizeof(sl_kfrag) + 4 + 100), 0.5);
+    s.shadow_size = 32;
+    double c = (double)sl_frame_estimate_bytes(&s, 0);
+    /* x SL_SHADOW_SPLIT_MAPS_PER_LOBE maps per lobe (broad lobes are split, shadow_split.h) */
+    CHECK_NEAR(c - b, 2.0 * (32.0 * 32 - 16 * 16) * (4 + 8 * 4), 0.5);
+    CHECK_NEAR((double)sl_frame_estimate_bytes(&s, 16), b, 0.5); /* the option overrides */
+    /* broad lobes subdivided (host/lighting/lobe_subdivide.h): max(2 x 1, SL_SUBDIV_MIN_BUDGET) = 12 maps
+     * and as many lobes shaded (a T float per lobe per point) instead of 2 maps and 1 lobe */
+    s.broad_lobes = SL_BROAD_SUBDIVIDE;
+    double d = (double)sl_frame_estimate_bytes(&s, 0);
+    CHECK_NEAR(d - c, (12.0 - 2.0) * 32 * 32 * (4 + 8 * 4) + 5000.0 * 8 * 4 * (12 - 1), 0.5);
+    s.broad_lobes = SL_BROAD_SPLIT;
+    CHECK(sl_frame_oit_k(&s) == 8);
+    s.oit_layers = 1000;
+    CHECK(sl_frame_oit_k(&s) == SL_KBUFFER_MAX);
+    s.shadow_size = 0;
+    CHECK(sl_frame_shadow_size(&s, 0) == 256);
+    s.width = 2000, s.height = 1000;
+    CHECK(sl_frame_shadow_size(&s, 0) == 512);
 }

@@ -7,6 +7,8 @@
  * are small (fast to build) and cached in the test's own directory. */
 #include "test.h"
 
+#include "cl_fixture.h"
+
 #include "frame_fixture.h"
 
 #include <math.h>
@@ -285,17 +287,12 @@ TEST(frame_table_opencl_equals_c) {
      * the compilers' different contraction of a*b+c (measured on the lookup alone: within
      * 1e-4 relative, test srbf_ren_c_vs_opencl) and the other passes' own C/OpenCL difference
      * (frame_c_vs_opencl) */
-    frame_tiny t;
-    CHECK(ttiny_setup(&t) == 0);
     sl_device dc = {0}, dcl = {0};
     sl_err e;
+    SL_TEST_OPEN_CL(&dcl, &e);
+    frame_tiny t;
+    CHECK(ttiny_setup(&t) == 0);
     CHECK(sl_device_open("c", &dc, &e) == 0);
-    if (sl_device_open("opencl", &dcl, &e)) {
-        sl_device_close(&dc);
-        frame_tiny_free(&t);
-        SKIP("no OpenCL device");
-        return;
-    }
     char dir[4200];
     CHECK(table_dir("cl", dir, sizeof dir) != NULL);
     sl_srbf_ren_params tp;
@@ -305,7 +302,9 @@ TEST(frame_table_opencl_equals_c) {
     init_r(&rcl, &dcl, SL_RENDER_SRBF_TABLE, 1, &tp);
     sl_fbuf a, b;
     CHECK(frame_tiny_render(&rc, &t, &a) == 0);
+    unsigned long k0 = sl_cl_kernels_enqueued();
     CHECK(frame_tiny_render(&rcl, &t, &b) == 0);
+    CHECK_CL_RAN(k0);
     CHECK(rcl.srbf_used == SL_RENDER_SRBF_TABLE && rcl.ren_mem != NULL);
     double mx, md = frame_max_diff(&a, &b, &mx);
     CHECK(mx > 0);

@@ -89,7 +89,7 @@ int sl_shadow_eval_transmittance(const char *scene_path, sl_eval_backend b, sl_c
             out[i] = t;
         }
         double t2 = sl_now();
-        /* SL_SHADOW_TIMES=1 (test/bench_shadow.sh): one line of light-pass times on stderr */
+        /* SL_SHADOW_TIMES=1 (test/bench/bench_shadow.sh): one line of light-pass times on stderr */
         const char *tv = getenv("SL_SHADOW_TIMES");
         if (!rc && tv && tv[0] == '1')
             fprintf(stderr,

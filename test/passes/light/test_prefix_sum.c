@@ -12,6 +12,8 @@
  * sequential) adds its own error <= (w + h) 2^-53 sum|a|, added to the tolerance. */
 #include "test.h"
 
+#include "cl_fixture.h"
+
 #include "../cpu/prefix_sum.h"
 #include "../kernels/prefix_sum.h"
 #include "cl/clrt.h"
@@ -248,17 +250,13 @@ TEST(ps_sat_box_sum) {
 
 /* ---------------------------------------------------------------- OpenCL */
 
-static const char *device_spec(void) {
-    const char *v = getenv("SL_TEST_DEVICE");
-    return v && *v ? v : "pocl";
-}
-
 /* Kernel vs C twin: same additions in the same order, IEEE single precision without
  * contraction (additions only), so tolerance 0: the bits must match. Covers every case above. */
 TEST(ps_cl_matches_c_twin) {
     sl_device dev;
     sl_err e = {{0}};
-    if (sl_device_open(device_spec(), &dev, &e)) SKIP(e.msg);
+    SL_TEST_OPEN_CL(&dev, &e);
+    unsigned long k0 = sl_cl_kernels_enqueued();
     const ps_case *sets[2] = {typical, extreme};
     size_t counts[2] = {sizeof typical / sizeof typical[0], sizeof extreme / sizeof extreme[0]};
     for (int set = 0; set < 2; set++)
@@ -286,6 +284,7 @@ TEST(ps_cl_matches_c_twin) {
             free(want);
             free(got);
         }
+    CHECK_CL_RAN(k0);
     sl_device_close(&dev);
 }
 
@@ -293,7 +292,7 @@ TEST(ps_cl_matches_c_twin) {
 TEST(ps_cl_buffers_and_errors) {
     sl_device dev;
     sl_err e = {{0}};
-    if (sl_device_open(device_spec(), &dev, &e)) SKIP(e.msg);
+    SL_TEST_OPEN_CL(&dev, &e);
     const ps_case c = {333, 77, INTS};
     size_t n = c.w * c.h;
     float *a = make_input(&c, 9), *want = sl_malloc(n * sizeof *want),

@@ -4,6 +4,8 @@
  * reference, and stochastic simplification. */
 #include "test.h"
 
+#include "cl_fixture.h"
+
 #include "../cpu/dodm.h"
 #include "../cpu/prefix_sum.h"
 #include "../cpu/raster.h"
@@ -17,11 +19,6 @@
 
 #include <stdlib.h>
 #include <string.h>
-
-static const char *device_spec(void) {
-    const char *v = getenv("SL_TEST_DEVICE");
-    return v && v[0] ? v : "pocl";
-}
 
 static double urand(uint64_t *s) {
     uint64_t z = (*s += 0x9e3779b97f4a7c15ull);
@@ -512,12 +509,14 @@ static void compare_device(sl_device *dev, const sl_hair *h, const double dir[3]
 TEST(shadow_kernel_vs_c) {
     sl_device dev;
     sl_err e = {{0}};
-    if (sl_device_open(device_spec(), &dev, &e)) SKIP(e.msg);
+    SL_TEST_OPEN_CL(&dev, &e);
+    unsigned long k0 = sl_cl_kernels_enqueued();
     sl_hair h;
     sl_hair_procedural p = {SL_PROC_WAVY, 300, 12, 3};
     CHECK(sl_hair_generate(&p, &h, &e) == 0);
     double d1[3] = {0.3, 0.8, 0.52}, d2[3] = {0, 0, 1};
     compare_device(&dev, &h, d1, 128);
+    CHECK_CL_RAN(k0);
     sl_hair_free(&h);
     /* degenerate: one strand end-on to the light + 50 strands inside one texel + a normal one */
     sl_hair g;

@@ -4,17 +4,14 @@
  * C batch (bit-identical maps across two launch groups, lookups within a few ulp). */
 #include "test.h"
 
+#include "cl_fixture.h"
+
 #include "io/hair/hair.h"
 #include "passes/light/shadow.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-static const char *device_spec(void) {
-    const char *v = getenv("SL_TEST_DEVICE");
-    return v && v[0] ? v : "pocl";
-}
 
 static double brand(uint64_t *s) {
     uint64_t z = (*s += 0x9e3779b97f4a7c15ull);
@@ -108,7 +105,7 @@ TEST(shadow_batch_matches_single) {
 TEST(shadow_batch_kernel_vs_c) {
     sl_device dk, dc;
     sl_err e = {{0}};
-    if (sl_device_open(device_spec(), &dk, &e)) SKIP(e.msg);
+    SL_TEST_OPEN_CL(&dk, &e);
     sl_device_open("c", &dc, &e);
     sl_hair h;
     sl_hair_procedural p = {SL_PROC_WAVY, 300, 12, 9};
@@ -124,7 +121,9 @@ TEST(shadow_batch_kernel_vs_c) {
     o.kappa = 0.5;
     o.z0_radius = 2;
     sl_shadow_batch a, b;
+    unsigned long k0 = sl_cl_kernels_enqueued();
     CHECK(sl_shadow_build_batch(&dk, &h, NL, dirs, lam, &o, &a, &e) == 0);
+    CHECK_CL_RAN(k0);
     CHECK(sl_shadow_build_batch(&dc, &h, NL, dirs, lam, &o, &b, &e) == 0);
     CHECK(a.on_device && !b.on_device);
     size_t plane = 96 * 96;

@@ -16,6 +16,8 @@
 #include "quad.h"
 #include "test.h"
 
+#include "cl_fixture.h"
+
 #define PI 3.14159265358979323846
 #define DEG (PI / 180.0)
 
@@ -374,8 +376,10 @@ TEST(mq_opencl_vs_reference_extreme_grid) {
     sl_err e;
     memset(&e, 0, sizeof e);
     if (getenv("SL_TEST_NO_OPENCL")) SKIP("SL_TEST_NO_OPENCL set");
-    if (sl_device_open("opencl", &dev, &e) != 0) SKIP("no OpenCL device");
+    SL_TEST_OPEN_CL(&dev, &e);
+    unsigned long k0 = sl_cl_kernels_enqueued();
     t_run_cases(dev.cl);
+    CHECK_CL_RAN(k0);
     sl_device_close(&dev);
 }
 

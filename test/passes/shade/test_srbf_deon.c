@@ -13,6 +13,8 @@
  * SL_SRBF_DEON_SPEED_ONLY=1 skips the exact values (the speed part alone). */
 #include "test.h"
 
+#include "cl_fixture.h"
+
 #include "cl/clrt.h"
 #include "deon_ref.h"
 #include "scene/material.h"
@@ -299,10 +301,8 @@ TEST(srbf_deon_extreme_inputs) {
 TEST(srbf_deon_c_vs_opencl) {
     sl_device dev = {0};
     sl_err e;
-    if (sl_device_open("opencl", &dev, &e)) {
-        SKIP("no OpenCL device");
-        return;
-    }
+    SL_TEST_OPEN_CL(&dev, &e);
+    unsigned long k0 = sl_cl_kernels_enqueued();
     sl_srbf_tables t;
     CHECK(get_tables(&t) == 0);
     enum { N = 200 };
@@ -333,6 +333,7 @@ TEST(srbf_deon_c_vs_opencl) {
     free(in);
     free(a);
     free(b);
+    CHECK_CL_RAN(k0);
     sl_srbf_tables_free(&t);
     sl_device_close(&dev);
 }
@@ -374,7 +375,9 @@ TEST(srbf_deon_rgb_rows) {
         }
     sl_device dev = {0};
     sl_err e;
-    if (sl_device_open("opencl", &dev, &e) == 0) {
+    int cl_rc = sl_test_open_cl(&dev, &e);
+    CHECK_MSG(cl_rc >= 0, "an OpenCL device is listed but not usable: %s", e.msg);
+    if (cl_rc == 0) {
         CHECK(slcl_srbf_deon_rgb_batch(dev.cl, &fp, &t, N, in, sig, cl_rgb, &e) == 0);
         for (int r = 0; r < N; r++) {
             float tot = 0.0f;
@@ -479,7 +482,7 @@ TEST(srbf_deon_measure) {
            rate(&t, NULL, 1, in, n, reps), rate(&t, NULL, 0, in, n, reps));
     sl_device dev = {0};
     sl_err e;
-    if (sl_device_open("opencl", &dev, &e) == 0) {
+    if (sl_test_open_cl(&dev, &e) == 0) {
         reps = 200000 / n + 1;
         rate(&t, &dev, 1, in, n, 1); /* program builds */
         rate(&t, &dev, 0, in, n, 1);

@@ -4,6 +4,8 @@
  * specialised OpenCL build against the generic one. */
 #include "test.h"
 
+#include "cl_fixture.h"
+
 #include "cl/clrt.h"
 #include "scene/material.h"
 #include "srbf_c.h"
@@ -134,7 +136,8 @@ TEST(srbf_fast_rgb_vs_exact) {
 TEST(srbf_fast_rgb_c_vs_opencl) {
     sl_device dev;
     sl_err e = {{0}};
-    if (sl_device_open("pocl", &dev, &e)) SKIP("no PoCL device");
+    SL_TEST_OPEN_CL(&dev, &e);
+    unsigned long k0 = sl_cl_kernels_enqueued();
     sl_srbf_tables t;
     CHECK(sl_srbf_tables_get(&t, 0, &e) == 0);
     enum { N = 600 };
@@ -162,6 +165,7 @@ TEST(srbf_fast_rgb_c_vs_opencl) {
             }
             CHECK(bad == 0);
         }
+    CHECK_CL_RAN(k0);
     sl_srbf_tables_free(&t);
     sl_device_close(&dev);
     free(in);

@@ -6,6 +6,8 @@
  * small or cached in the test's scratch dir. */
 #include "test.h"
 
+#include "cl_fixture.h"
+
 #include "srbf_stiff_fixture.h"
 
 #include "verify/eval/fiber_eval.h"
@@ -239,7 +241,7 @@ TEST(srbf_ren_azimuth_symmetry_exact) {
 TEST(srbf_ren_c_vs_opencl) {
     sl_device dev;
     sl_err e = {{0}};
-    if (sl_device_open("pocl", &dev, &e)) SKIP("no PoCL device");
+    SL_TEST_OPEN_CL(&dev, &e);
     sl_material m;
     sl_srbf_ren t;
     if (default_table(&t, &m) == 0) {
@@ -254,8 +256,10 @@ TEST(srbf_ren_c_vs_opencl) {
             in[5 * i + 3] = (float)(2 * PI * (rnd() - 0.5));
             in[5 * i + 4] = (float)exp(log(0.01) + rnd() * log(5.0 / 0.01));
         }
+        unsigned long k0 = sl_cl_kernels_enqueued();
         int rc = slcl_srbf_ren_batch(dev.cl, &t, N, in, a, &e);
         CHECK_MSG(rc == 0, "%s", e.msg);
+        CHECK_CL_RAN(k0);
         slc_srbf_ren_batch(&t, N, in, b);
         int bad = 0;
         for (int i = 0; i < N * 9 && rc == 0; i++) {

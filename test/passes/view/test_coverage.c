@@ -12,6 +12,8 @@
  * exactly what the frame composites. */
 #include "test.h"
 
+#include "cl_fixture.h"
+
 #include "kbuffer.h"
 #include "view.h"
 #include "passes/view/view_cl.h"
@@ -410,10 +412,7 @@ TEST(cov_strands_opencl_equals_c) {
      * image with K = 3 (many overflow merges): counts and every kept entry bit-identical. */
     sl_device cl = {0};
     sl_err e;
-    if (sl_device_open("opencl", &cl, &e)) {
-        SKIP("no OpenCL device");
-        return;
-    }
+    SL_TEST_OPEN_CL(&cl, &e);
     slc_frag_list l = {0};
     uint32_t seg = 0;
     for (int s = 0; s < 60; s++) {
@@ -431,7 +430,9 @@ TEST(cov_strands_opencl_equals_c) {
     sl_kfrag *a = calloc(npx * K, sizeof *a), *b = calloc(npx * K, sizeof *b);
     uint8_t *ca = calloc(npx, 1), *cb = calloc(npx, 1);
     size_t ma = slc_kbuffer_build(&l, COV_W, COV_H, K, a, ca, 2), mb = 0;
+    unsigned long k0 = sl_cl_kernels_enqueued();
     CHECK(slcl_kbuffer_build(cl.cl, &l, COV_W, COV_H, K, b, cb, &mb, &e) == 0);
+    CHECK_CL_RAN(k0);
     CHECK(ma == mb && ma > 50);
     CHECK(memcmp(ca, cb, npx) == 0);
     int same = 1;

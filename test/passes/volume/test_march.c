@@ -3,6 +3,7 @@
  * fibers where T_f and sigma_f have closed forms (docs/volume.md), and kernel vs C twin. */
 #include "test.h"
 
+#include "cl_fixture.h"
 #include "march_fixture.h"
 
 #include "passes/volume/dual.h"
@@ -16,11 +17,6 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-
-static const char *test_device(void) {
-    const char *v = getenv("SL_TEST_DEVICE");
-    return v && v[0] ? v : "pocl";
-}
 
 /* Lattice slab: fibers along x over [-0.5, 4.5], at y = (i + 1/2) 0.05 (i < 80, y in [0, 4)) and
  * z = (k + 1/2) 0.05 (k < 20, z in [0, 1)): n = 400 per unit area, radius 0.002, so sigma_perp =
@@ -196,13 +192,15 @@ TEST(march_reference_lattice) {
 TEST(march_opencl_vs_c) {
     sl_err e = {{0}};
     sl_device dev;
-    if (sl_device_open(test_device(), &dev, &e)) SKIP(e.msg);
+    SL_TEST_OPEN_CL(&dev, &e);
     march_wavy w;
     const double sa[3] = {0.2, 0.5, 1.1};
     march_wavy_setup(&w, sa);
     sl_march_opts o = {4, 8, 3, 1};
     sl_ftex a, b;
+    unsigned long k0 = sl_cl_kernels_enqueued();
     CHECK(sl_march_build(&dev, &w.g, &w.dt, 2, w.dirs, &o, &a, &e) == 0);
+    CHECK_CL_RAN(k0);
     CHECK(sl_march_build(NULL, &w.g, &w.dt, 2, w.dirs, &o, &b, &e) == 0);
     CHECK(a.active == b.active && a.active > 0);
     size_t nv = (size_t)a.m[0] * a.m[1] * a.m[2] * SL_MARCH_CH * 2, bad = 0;

@@ -6,6 +6,8 @@
  * from the dual tables (not Xu Eq. 31's means). */
 #include "test.h"
 
+#include "cl_fixture.h"
+
 #include "fiber_marschner.h"
 #include "dual_c.h"
 #include "passes/volume/dual_cl.h"
@@ -121,9 +123,9 @@ TEST(march_ms_response_combination) {
  * by the same host code: 2e-5 relative or 1e-7 absolute (terms near 0 such as alpha). */
 TEST(march_ms_material_opencl_vs_c) {
     sl_err e = {{0}};
-    const char *spec = getenv("SL_TEST_DEVICE");
     sl_device dev;
-    if (sl_device_open(spec && spec[0] ? spec : "pocl", &dev, &e)) SKIP(e.msg);
+    SL_TEST_OPEN_CL(&dev, &e);
+    unsigned long k0 = sl_cl_kernels_enqueued();
     sl_material m;
     sl_material_default(&m);
     for (int variant = 0; variant < 2; variant++) {
@@ -144,6 +146,7 @@ TEST(march_ms_material_opencl_vs_c) {
             double d = fabs(a[i] - b[i]);
             if (d > 1e-7 && d / fabs(b[i]) > worst) worst = d / fabs(b[i]);
         }
+        CHECK_CL_RAN(k0);
         CHECK_MSG(worst <= 2e-5, "variant %d: worst relative difference %g", variant, worst);
         /* And the device table's SAT rows equal the twin's sums of its own rows. */
         float ta[SL_DUAL_TABLE_FLOATS], tb[SL_DUAL_TABLE_FLOATS];
@@ -161,9 +164,9 @@ TEST(march_ms_material_opencl_vs_c) {
  * `strandlight kernels --only ms` on PoCL, checked 5e-4 relative or 1e-7 absolute. */
 TEST(march_ms_response_opencl_vs_c) {
     sl_err e = {{0}};
-    const char *spec = getenv("SL_TEST_DEVICE");
     sl_device dev;
-    if (sl_device_open(spec && spec[0] ? spec : "pocl", &dev, &e)) SKIP(e.msg);
+    SL_TEST_OPEN_CL(&dev, &e);
+    unsigned long k0 = sl_cl_kernels_enqueued();
     sl_material m;
     sl_material_default(&m);
     m.sigma_a_rgb = 1;
@@ -200,6 +203,7 @@ TEST(march_ms_response_opencl_vs_c) {
         }
         CHECK_MSG(worst <= 5e-4, "channel %d: worst relative difference %g", ch, worst);
     }
+    CHECK_CL_RAN(k0);
     sl_volume_ms_free(&ms);
     sl_device_close(&dev);
 }

@@ -6,6 +6,8 @@
  * value where it matters (see ms_err) and reported as median / p95 / max with SL_TEST_VERBOSE. */
 #include "test.h"
 
+#include "cl_fixture.h"
+
 #include "ms_table.h"
 #include "passes/volume/volume_ms.h"
 #include "passes/volume/volume_ms_cl.h"
@@ -271,9 +273,8 @@ TEST(ms_table_extremes) {
  * 1e-7 absolute, as test_march_ms.c's table-kernel check. */
 TEST(ms_table_opencl_exact_vs_c) {
     sl_err e = {{0}};
-    const char *spec = getenv("SL_TEST_DEVICE");
     sl_device dev;
-    if (sl_device_open(spec && spec[0] ? spec : "pocl", &dev, &e)) SKIP(e.msg);
+    SL_TEST_OPEN_CL(&dev, &e);
     sl_material m;
     materials(1, &m);
     sl_volume_ms ms;
@@ -291,7 +292,9 @@ TEST(ms_table_opencl_exact_vs_c) {
         r[5] = (float)(0.4 * unif(&s));
     }
     const int ch = 2;
+    unsigned long k0 = sl_cl_kernels_enqueued();
     CHECK(slcl_ms_response_rows_exact(dev.cl, &ms, ch, NR, in, a, &e) == 0);
+    CHECK_CL_RAN(k0);
     double worst = 0;
     for (int i = 0; i < NR && !sl_test_failed_now(); i++) {
         const float *r = in + 6 * i;

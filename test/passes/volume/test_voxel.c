@@ -1,7 +1,9 @@
 /* test_voxel.c: hair voxelization (kernels/voxel.h, cpu/voxel_c.c, host/passes/volume/voxel_cl.c,
  * host/passes/volume/volume.c): C twin against analytic grids and independent double computations, and the
- * OpenCL kernel against the C twin (device $SL_TEST_DEVICE, else pocl). */
+ * OpenCL kernel against the C twin (the test device, cl_fixture.h). */
 #include "test.h"
+
+#include "cl_fixture.h"
 
 #include "passes/volume/volume.h"
 #include "voxel.h"
@@ -10,11 +12,6 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-
-static const char *test_device(void) {
-    const char *v = getenv("SL_TEST_DEVICE");
-    return v && v[0] ? v : "pocl";
-}
 
 static double vrand(uint64_t *s) {
     *s = *s * 6364136223846793005ull + 1442695040888963407ull;
@@ -271,14 +268,16 @@ static void compare_grids(const sl_voxel_grid *a, const sl_voxel_grid *b, double
 TEST(voxel_opencl_vs_c) {
     sl_err e = {{0}};
     sl_device dev, c;
-    if (sl_device_open(test_device(), &dev, &e)) SKIP(e.msg);
+    SL_TEST_OPEN_CL(&dev, &e);
     sl_device_open("c", &c, &e);
     sl_hair h;
     sl_hair_procedural p = {SL_PROC_WAVY, 300, 12, 3};
     CHECK(sl_hair_generate(&p, &h, &e) == 0);
     sl_voxel_grid a, b;
     /* Typical: procedural hair at 32 voxels. */
+    unsigned long k0 = sl_cl_kernels_enqueued();
     CHECK(sl_voxelize(&dev, &h, 32, &a, &e) == 0);
+    CHECK_CL_RAN(k0);
     CHECK(sl_voxelize(&c, &h, 32, &b, &e) == 0);
     double wr, wd;
     compare_grids(&a, &b, &wr, &wd);

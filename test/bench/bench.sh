@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# bench.sh BUILD_DIR: runs every test/bench_*.sh (benchmarks are never part of `make test`).
+# bench.sh BUILD_DIR: runs every test/bench/bench_*.sh (benchmarks are never part of `make test`).
 # Absolute times are noisy on shared machines: each benchmark reports ratios measured in one run.
 set -u
 BUILD=${1:-build}
 export SL="$BUILD/strandlight" BUILD
-for b in test/bench_*.sh; do
+for b in test/bench/bench_*.sh; do
     [ -e "$b" ] || continue
     echo "== $b"
     bash "$b" "$BUILD" || echo "bench: $b failed"

@@ -1,17 +1,18 @@
-/* test_frame_strands.c: per-strand sigma_a overrides (host/scene/scene_strands.h): the CSV round trip
+/* test_scene_strands.c: per-strand sigma_a overrides (host/scene/scene_strands.h): the CSV round trip
  * and its errors, "colors" from a .hair file with a colour array (Chiang 2016 Eq. 9 checked by
  * its forward form in double), the scene keys material.strand_sigma_a and the planner
- * thresholds quality.*_threshold (parse, defaults, range errors). */
+ * thresholds quality.*_threshold (parse, defaults, range errors). The frame's use of them is in
+ * test/plan/test_frame.c. */
 #include "test.h"
 
-#include "plan/frame.h"
+#include "scene/scene.h"
 #include "scene/scene_strands.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-TEST(frame_strands_csv_round_trip) {
+TEST(scene_strands_csv_round_trip) {
     /* 1000 strands, every 7th overridden with values that need all 9 significant digits; the
      * file must hold exactly those rows and read back bit-exact (tolerance 0: %.9g round-trips
      * every binary32 value) */
@@ -63,7 +64,7 @@ static void expect_csv_error(const char *text, uint32_t n, const char *want) {
     CHECK(strchr(e.msg, '\n') == NULL);
 }
 
-TEST(frame_strands_csv_errors) {
+TEST(scene_strands_csv_errors) {
     const char *h = "strand,sigma_a_r,sigma_a_g,sigma_a_b\n";
     char buf[512];
     expect_csv_error("", 10, "paint.csv");
@@ -121,7 +122,7 @@ static int write_tiny_hair(const char *path, const float col[6][3]) {
     return fclose(f);
 }
 
-TEST(frame_strands_from_colors) {
+TEST(scene_strands_from_colors) {
     /* strand 0: mean colour (0.5, 0.3, 0.1) from varying points; strand 1: white and black.
      * Chiang 2016 Eq. 9 is checked through its forward form c = exp(-sqrt(sigma_a) d(beta_n))
      * in double (relative 1e-5: the result is stored in float, ~6e-8, and c is averaged from
@@ -179,7 +180,7 @@ TEST(frame_strands_from_colors) {
     sl_hair_free(&h);
 }
 
-TEST(frame_strands_shared_straight_hair) {
+TEST(scene_strands_shared_straight_hair) {
     /* ../shared/data/hair/straight.hair has a constant colour array (1, 0.925490, 0.568627,
      * data/README.md): every strand gets the same sigma_a, blue absorbing most */
     const char *d = sl_test_shared_data();
@@ -216,7 +217,7 @@ static void expect_scene_error(const char *quality, const char *want) {
     CHECK(strstr(e.msg, want) != NULL);
 }
 
-TEST(frame_strands_scene_keys) {
+TEST(scene_strands_scene_keys) {
     sl_scene s;
     sl_err e;
     const char *t0 = "{\"hair\":{\"procedural\":{}},\"environment\":{\"lobes\":\"l.json\"}}";
@@ -249,38 +250,4 @@ TEST(frame_strands_scene_keys) {
     expect_scene_error("\"point_threshold\":\"x\"", "quality.point_threshold");
     expect_scene_error("\"ms_auto_threshold\":1.5", "quality.ms_auto_threshold: must be in [0, 1]");
     expect_scene_error("\"auto_fragment_px\":0", "quality.auto_fragment_px: must be in (0, 1e6]");
-}
-
-TEST(frame_estimate_matches_sizes) {
-    /* the estimate's parts follow the scene's settings: K-buffer bytes scale with oit_layers,
-     * maps with shadow_size^2 x layers, per the size rules the passes allocate with */
-    sl_scene s;
-    sl_scene_default(&s);
-    s.width = 100, s.height = 50, s.voxels = 4, s.lobes = 1, s.layers = 4, s.shadow_size = 16;
-    s.oit_layers = 4;
-    s.broad_lobes = SL_BROAD_SPLIT; /* subdivision's budget: checked at the end */
-    double a = (double)sl_frame_estimate_bytes(&s, 0);
-    s.oit_layers = 8;
-    double b = (double)sl_frame_estimate_bytes(&s, 0);
-    /* per pixel and layer: one sl_kfrag, one uint32 shade-map slot and one shading point
-     * (pos 24 + tan 12 + strand 4 + T 4 per lobe + 14 floats out = 100 B) */
-    CHECK_NEAR(b - a, 5000.0 * 4 * (sizeof(sl_kfrag) + 4 + 100), 0.5);
-    s.shadow_size = 32;
-    double c = (double)sl_frame_estimate_bytes(&s, 0);
-    /* x SL_SHADOW_SPLIT_MAPS_PER_LOBE maps per lobe (broad lobes are split, shadow_split.h) */
-    CHECK_NEAR(c - b, 2.0 * (32.0 * 32 - 16 * 16) * (4 + 8 * 4), 0.5);
-    CHECK_NEAR((double)sl_frame_estimate_bytes(&s, 16), b, 0.5); /* the option overrides */
-    /* broad lobes subdivided (host/lighting/lobe_subdivide.h): max(2 x 1, SL_SUBDIV_MIN_BUDGET) = 12 maps
-     * and as many lobes shaded (a T float per lobe per point) instead of 2 maps and 1 lobe */
-    s.broad_lobes = SL_BROAD_SUBDIVIDE;
-    double d = (double)sl_frame_estimate_bytes(&s, 0);
-    CHECK_NEAR(d - c, (12.0 - 2.0) * 32 * 32 * (4 + 8 * 4) + 5000.0 * 8 * 4 * (12 - 1), 0.5);
-    s.broad_lobes = SL_BROAD_SPLIT;
-    CHECK(sl_frame_oit_k(&s) == 8);
-    s.oit_layers = 1000;
-    CHECK(sl_frame_oit_k(&s) == SL_KBUFFER_MAX);
-    s.shadow_size = 0;
-    CHECK(sl_frame_shadow_size(&s, 0) == 256);
-    s.width = 2000, s.height = 1000;
-    CHECK(sl_frame_shadow_size(&s, 0) == 512);
 }
