@@ -1,8 +1,10 @@
-/* raster.c: the C twin of kernels/raster.cl: the same per-sample operations (kernels/raster.h)
- * run one segment after another with plain adds instead of atomics; the fixed-point adds are
- * exact, so the maps equal the kernel's bit for bit. Also builds the segment records. */
+/* raster.c: the C twin of kernels/raster.cl: the same splat loop (kernels/splat.h) and per-sample
+ * operations (kernels/raster.h) run one segment after another with plain adds instead of atomics;
+ * the fixed-point adds are exact, so the maps equal the kernel's bit for bit. Also builds the
+ * segment records. */
 #include "../cpu/raster.h"
 #include "../kernels/raster.h"
+#include "../kernels/splat.h"
 
 #include <math.h>
 #include <string.h>
@@ -56,8 +58,9 @@ static uint32_t bits_of(float f) {
 }
 
 /* Whether every tent corner of every sample of rec lies inside the w x h map, with a texel of
- * slack for the rounding of the per-sample float positions: the corner loops then skip their
- * bounds checks (which texels get what is unchanged). */
+ * slack for the rounding of the per-sample float positions: the splat loop then skips its
+ * bounds checks (sl_splat_begin's clip = 0; which texels get what is unchanged). (Either
+ * answer is right for a record without samples: it yields nothing.) */
 static int rec_inside(const float *rec, int w, int h) {
     const double na = rec[9] - 1.0, nw = rec[10] - 1.0;
     double x0 = rec[0], y0 = rec[1], xl = x0, xh = x0, yl = y0, yh = y0;
@@ -76,44 +79,16 @@ void slc_raster_z0(const float *recs, size_t nseg, int w, int h, uint32_t *z0bit
         z0bits[t] = SL_RASTER_Z_EMPTY;
     for (size_t s = 0; s < nseg; s++) {
         const float *rec = recs + s * SL_RASTER_REC;
-        const sl_uint na = (sl_uint)rec[9], nw = (sl_uint)rec[10];
-        const float m = rec[8];
-        if (na == 0 || nw == 0) continue;
-        if (rec_inside(rec, w, h)) { /* the four corners unrolled, no bounds checks */
-            for (sl_uint i = 0; i < na; i++)
-                for (sl_uint j = 0; j < nw; j++) {
-                    float x, y, z, fx, fy;
-                    sl_int ix, iy;
-                    sl_raster_sample(rec, i, j, &x, &y, &z);
-                    sl_raster_tent(x, y, &ix, &iy, &fx, &fy);
-                    uint32_t *p = &z0bits[(size_t)iy * w + ix];
-                    const uint32_t b = bits_of(z);
-                    const float gx = 1.0f - fx, gy = 1.0f - fy;
-                    /* llrintf(share) == 0 <=> share <= 0.5 (share >= 0; rint(0.5) = 0) */
-                    if (sl_raster_share(m, gx, gy) > 0.5f && b < p[0]) p[0] = b;
-                    if (sl_raster_share(m, fx, gy) > 0.5f && b < p[1]) p[1] = b;
-                    if (sl_raster_share(m, gx, fy) > 0.5f && b < p[w]) p[w] = b;
-                    if (sl_raster_share(m, fx, fy) > 0.5f && b < p[w + 1]) p[w + 1] = b;
-                }
-            continue;
+        sl_splat it;
+        sl_splat_begin(&it, rec, w, h, !rec_inside(rec, w, h));
+        sl_int tx, ty;
+        float share, z;
+        while (sl_splat_next(&it, &tx, &ty, &share, &z)) {
+            /* llrintf(share) == 0 <=> share <= 0.5 (share >= 0; rint(0.5) = 0 by ties-to-even) */
+            if (!(share > 0.5f)) continue;
+            uint32_t *p = &z0bits[(size_t)ty * w + tx], b = bits_of(z);
+            if (b < *p) *p = b;
         }
-        for (sl_uint i = 0; i < na; i++)
-            for (sl_uint j = 0; j < nw; j++) {
-                float x, y, z, fx, fy;
-                sl_int ix, iy;
-                sl_raster_sample(rec, i, j, &x, &y, &z);
-                sl_raster_tent(x, y, &ix, &iy, &fx, &fy);
-                for (int c = 0; c < 4; c++) {
-                    const int tx = ix + (c & 1), ty = iy + (c >> 1);
-                    if (tx < 0 || ty < 0 || tx >= w || ty >= h) continue;
-                    const float share =
-                        sl_raster_share(m, (c & 1) ? fx : 1.0f - fx, (c >> 1) ? fy : 1.0f - fy);
-                    /* llrintf(share) == 0 (share >= 0; rint(0.5) = 0 by ties-to-even) */
-                    if (!(share > 0.5f)) continue;
-                    uint32_t *p = &z0bits[(size_t)ty * w + tx], b = bits_of(z);
-                    if (b < *p) *p = b;
-                }
-            }
     }
 }
 
@@ -142,46 +117,16 @@ void slc_raster_layers(const float *recs, size_t nseg, int w, int h, unsigned K,
         bnd[k] = (float)((k + 1u) * (k + 2u) / 2u) * d;
     for (size_t s = 0; s < nseg; s++) {
         const float *rec = recs + s * SL_RASTER_REC;
-        const sl_uint na = (sl_uint)rec[9], nw = (sl_uint)rec[10];
-        const float m = rec[8];
-        if (na == 0 || nw == 0) continue;
-        if (rec_inside(rec, w, h)) { /* the four corners unrolled, no bounds checks */
-            for (sl_uint i = 0; i < na; i++)
-                for (sl_uint j = 0; j < nw; j++) {
-                    float x, y, z, fx, fy;
-                    sl_int ix, iy;
-                    sl_raster_sample(rec, i, j, &x, &y, &z);
-                    sl_raster_tent(x, y, &ix, &iy, &fx, &fy);
-                    const size_t t = (size_t)iy * w + ix;
-                    const float gx = 1.0f - fx, gy = 1.0f - fy;
-                    const size_t tt[4] = {t, t + 1, t + w, t + w + 1};
-                    const float sh[4] = {sl_raster_share(m, gx, gy), sl_raster_share(m, fx, gy),
-                                         sl_raster_share(m, gx, fy), sl_raster_share(m, fx, fy)};
-                    for (int c = 0; c < 4; c++) {
-                        const uint64_t q = round_share(sh[c]);
-                        if (q == 0) continue;
-                        bins[layer_of(z - z0_of(z0bits, tt[c]), bnd, K) * plane + tt[c]] += q;
-                    }
-                }
-            continue;
+        sl_splat it;
+        sl_splat_begin(&it, rec, w, h, !rec_inside(rec, w, h));
+        sl_int tx, ty;
+        float share, z;
+        while (sl_splat_next(&it, &tx, &ty, &share, &z)) {
+            const uint64_t q = round_share(share);
+            if (q == 0) continue;
+            const size_t t = (size_t)ty * w + tx;
+            bins[layer_of(z - z0_of(z0bits, t), bnd, K) * plane + t] += q;
         }
-        for (sl_uint i = 0; i < na; i++)
-            for (sl_uint j = 0; j < nw; j++) {
-                float x, y, z, fx, fy;
-                sl_int ix, iy;
-                sl_raster_sample(rec, i, j, &x, &y, &z);
-                sl_raster_tent(x, y, &ix, &iy, &fx, &fy);
-                for (int c = 0; c < 4; c++) {
-                    const int tx = ix + (c & 1), ty = iy + (c >> 1);
-                    if (tx < 0 || ty < 0 || tx >= w || ty >= h) continue;
-                    const float share =
-                        sl_raster_share(m, (c & 1) ? fx : 1.0f - fx, (c >> 1) ? fy : 1.0f - fy);
-                    const uint64_t q = round_share(share);
-                    if (q == 0) continue;
-                    const size_t t = (size_t)ty * w + tx;
-                    bins[layer_of(z - z0_of(z0bits, t), bnd, K) * plane + t] += q;
-                }
-            }
     }
 }
 

@@ -3,6 +3,7 @@
 
 #include "raster.h"
 #include "../kernels/raster.h"
+#include "../kernels/splat.h"
 
 #include <math.h>
 #include <pthread.h>
@@ -92,22 +93,16 @@ void slc_view_segment(const double p0[3], const double p1[3], double hw, float a
     size_t ns = (size_t)na * nw * 4, k = 0;
     share stack[512];
     share *s = ns <= 512 ? stack : sl_malloc(ns * sizeof *s);
-    const float m = rec[8];
-    for (sl_uint i = 0; i < na; i++) {
-        const float t = ((float)i + 0.5f) / (float)na;
-        for (sl_uint j = 0; j < nw; j++) {
-            float x, y, z, fx, fy;
-            sl_int ix, iy;
-            sl_raster_sample(rec, i, j, &x, &y, &z);
-            sl_raster_tent(x, y, &ix, &iy, &fx, &fy);
-            for (int c = 0; c < 4; c++) {
-                const int tx = ix + (c & 1), ty = iy + (c >> 1);
-                if (tx < 0 || ty < 0 || tx >= w || ty >= h) continue;
-                float sh = sl_raster_share(m, (c & 1) ? fx : 1.0f - fx, (c >> 1) ? fy : 1.0f - fy);
-                if (!(sh > 0.0f)) continue;
-                s[k++] = (share){(uint32_t)ty * (uint32_t)w + (uint32_t)tx, sh, sh * t, sh * z};
-            }
-        }
+    sl_splat it;
+    sl_splat_begin(&it, rec, w, h, 1);
+    sl_int tx, ty;
+    float sh, z, ts = 0.0f;
+    sl_uint ti = ~0u; /* the row ts is of: none yet (na <= SL_RASTER_MAX_ALONG) */
+    while (sl_splat_next(&it, &tx, &ty, &sh, &z)) {
+        if (!(sh > 0.0f)) continue;
+        /* the sample's parameter along the segment (the centre of its slice), once per row */
+        if (it.i != ti) ti = it.i, ts = ((float)it.i + 0.5f) / (float)na;
+        s[k++] = (share){(uint32_t)ty * (uint32_t)w + (uint32_t)tx, sh, sh * ts, sh * z};
     }
     share_sort(s, k);
     /* the previous segment's pixels (sorted by pixel, as the shares are): a merge join */

@@ -1,8 +1,8 @@
 /* raster.cl: the segment rasterizer (kernels/raster.h; C twin cpu/raster.c). The projection
  * kernel makes the records of a batch of lobes from the world points; then one work-item per
- * (lobe, segment record) walks its ribbon samples and splats them with exact 64-bit fixed-point
- * atomics (cl_khr_int64_base_atomics; a device without it fails to build and `auto` falls back to
- * C). Pass 1 (sl_raster_z0) takes the first depth z0 per texel (atomic min of the depth's bits),
+ * (lobe, segment record) walks its ribbon samples (the splat loop of kernels/splat.h, shared with
+ * the twins) and splats them with exact 64-bit fixed-point atomics (cl_khr_int64_base_atomics; a
+ * device without it fails to build and `auto` falls back to C). Pass 1 (sl_raster_z0) takes the first depth z0 per texel (atomic min of the depth's bits),
  * between them sl_raster_z0_min (rows, then columns) takes the minimum of z0 over a square window
  * so that a texel's layers start at the local hair surface (kernels/raster.h: sl_raster_z0_window),
  * and pass 2 (sl_raster_layers) adds each share to the deep-opacity layer its depth offset falls
@@ -11,6 +11,7 @@
 #pragma OPENCL FP_CONTRACT OFF
 
 #include "raster.h"
+#include "splat.h"
 
 /* Records of nl lobes x nseg segments (lobe-major) from the world points (sl_raster_project_seg):
  * the projection runs on the device, so the hair is uploaded once per batch of lobes. */
@@ -30,23 +31,14 @@ __kernel void sl_raster_z0(__global const float *recs, uint nseg, uint nl, int w
     if (g >= (size_t)nseg * nl) return;
     __global const float *rec = recs + g * SL_RASTER_REC;
     z0bits += (g / nseg) * (size_t)w * h;
-    const uint na = (uint)rec[9], nw = (uint)rec[10];
-    const float m = rec[8];
-    for (uint i = 0; i < na; i++)
-        for (uint j = 0; j < nw; j++) {
-            float x, y, z, fx, fy;
-            int ix, iy;
-            sl_raster_sample(rec, i, j, &x, &y, &z);
-            sl_raster_tent(x, y, &ix, &iy, &fx, &fy);
-            for (int c = 0; c < 4; c++) {
-                const int tx = ix + (c & 1), ty = iy + (c >> 1);
-                if (tx < 0 || ty < 0 || tx >= w || ty >= h) continue;
-                const float share =
-                    sl_raster_share(m, (c & 1) ? fx : 1.0f - fx, (c >> 1) ? fy : 1.0f - fy);
-                if (convert_ulong_rte(share) == 0) continue;
-                atomic_min(&z0bits[(size_t)ty * w + tx], as_uint(z));
-            }
-        }
+    sl_splat it;
+    sl_splat_begin(&it, rec, w, h, 1);
+    int tx, ty;
+    float share, z;
+    while (sl_splat_next(&it, &tx, &ty, &share, &z)) {
+        if (convert_ulong_rte(share) == 0) continue;
+        atomic_min(&z0bits[(size_t)ty * w + tx], as_uint(z));
+    }
 }
 
 /* One pass of the separable min filter of half-size m: dst[t] = min of src over the texels within
@@ -68,27 +60,19 @@ __kernel void sl_raster_layers(__global const float *recs, uint nseg, uint nl, i
     const size_t g = get_global_id(0);
     if (g >= (size_t)nseg * nl) return;
     __global const float *rec = recs + g * SL_RASTER_REC;
-    const uint na = (uint)rec[9], nw = (uint)rec[10];
-    const float m = rec[8], d = dl[g / nseg];
+    const float d = dl[g / nseg];
     const size_t plane = (size_t)w * h;
     z0bits += (g / nseg) * plane;
     bins += (g / nseg) * K * plane;
-    for (uint i = 0; i < na; i++)
-        for (uint j = 0; j < nw; j++) {
-            float x, y, z, fx, fy;
-            int ix, iy;
-            sl_raster_sample(rec, i, j, &x, &y, &z);
-            sl_raster_tent(x, y, &ix, &iy, &fx, &fy);
-            for (int c = 0; c < 4; c++) {
-                const int tx = ix + (c & 1), ty = iy + (c >> 1);
-                if (tx < 0 || ty < 0 || tx >= w || ty >= h) continue;
-                const float share =
-                    sl_raster_share(m, (c & 1) ? fx : 1.0f - fx, (c >> 1) ? fy : 1.0f - fy);
-                const ulong q = convert_ulong_rte(share);
-                if (q == 0) continue;
-                const size_t t = (size_t)ty * w + tx;
-                const uint k = sl_raster_layer(z - as_float(z0bits[t]), d, K);
-                atom_add(&bins[k * plane + t], q);
-            }
-        }
+    sl_splat it;
+    sl_splat_begin(&it, rec, w, h, 1);
+    int tx, ty;
+    float share, z;
+    while (sl_splat_next(&it, &tx, &ty, &share, &z)) {
+        const ulong q = convert_ulong_rte(share);
+        if (q == 0) continue;
+        const size_t t = (size_t)ty * w + tx;
+        const uint k = sl_raster_layer(z - as_float(z0bits[t]), d, K);
+        atom_add(&bins[k * plane + t], q);
+    }
 }
