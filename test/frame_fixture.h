@@ -123,10 +123,15 @@ static inline frame_paint_tally frame_paint_compare(const sl_renderer *r, const 
     for (uint32_t s = 0; s < n; s++)
         for (uint32_t i = t->h.strand_first[s]; i < t->h.strand_first[s + 1]; i++)
             strand_of[i] = s;
+    int kw, kh, K;
+    const sl_kfrag *kbuf;
+    const uint8_t *kcount;
+    CHECK(sl_renderer_kbuffer(r, &kw, &kh, &K, &kbuf, &kcount) == 0);
+    CHECK(kw == a->width && kh == a->height);
     for (int px = 0; px < a->width * a->height; px++) {
-        int k = r->kcount[px], painted = 0;
+        int k = kcount[px], painted = 0;
         for (int i = 0; i < k; i++)
-            painted |= strand_of[r->kbuf[px * r->vK + i].seg] % 2;
+            painted |= strand_of[kbuf[px * K + i].seg] % 2;
         for (int c = 0; c < 3; c++)
             y.changed += a->rgba[4 * px + c] != b->rgba[4 * px + c];
         double sa_ = a->rgba[4 * px] + a->rgba[4 * px + 1] + a->rgba[4 * px + 2];

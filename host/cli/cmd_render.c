@@ -243,8 +243,7 @@ int cmd_render(int argc, char **argv) {
     sl_hair h = {0};
     sl_lobes lobes = {0};
     sl_device dev = {0};
-    sl_renderer r;
-    int have_r = 0;
+    sl_renderer *r = NULL;
     int rc = 1;
     double t0 = sl_now();
     if (sl_scene_load(scene_path, s, &e)) goto done;
@@ -277,12 +276,11 @@ int cmd_render(int argc, char **argv) {
                     s->height, lo, hi);
     const char *exr_path = exr ? exr : (s->out_exr[0] ? s->out_exr : "out/frame.exr");
     const char *png_path = png ? png : s->out_png;
-    sl_renderer_init(&r, &dev, &ro);
-    have_r = 1;
+    r = sl_renderer_create(&dev, &ro);
     { /* material.strand_sigma_a: per-strand absorption (docs/formats.md) */
         float *ssa = NULL;
         if (sl_scene_strand_sigma_a(s, &h, &ssa, &e)) goto done;
-        int src = ssa ? sl_renderer_set_strand_sigma_a(&r, ssa, h.num_strands, &e) : 0;
+        int src = ssa ? sl_renderer_set_strand_sigma_a(r, ssa, h.num_strands, &e) : 0;
         free(ssa);
         if (src) goto done;
     }
@@ -305,24 +303,24 @@ int cmd_render(int argc, char **argv) {
         }
         sl_fbuf fbuf;
         double tf = sl_now();
-        if (sl_renderer_frame(&r, s, &h, &lobes, &cam, &fbuf, &e)) goto done;
+        if (sl_renderer_frame(r, s, &h, &lobes, &cam, &fbuf, &e)) goto done;
         int wrc = write_outputs(&fbuf, aovs, exr_f, png_f, s->exr_float, &e);
         sl_fbuf_free(&fbuf);
         if (wrc) goto done;
         if (explain) {
             if (orbit) printf("frame %ld\n", f);
-            sl_renderer_explain(&r, stdout);
+            sl_renderer_explain(r, stdout);
             fflush(stdout);
         }
         sl_note("render: frame %ld: %u strands, %dx%d, %d of %d lobes -> %s%s%s (%.2f s)", f,
-                h.num_strands, s->width, s->height, r.lobes_used, lobes.count, exr_f,
+                h.num_strands, s->width, s->height, sl_renderer_lobes_used(r), lobes.count, exr_f,
                 png_f[0] ? " + " : "", png_f, sl_now() - tf);
     }
     sl_note("render: done in %.2f s on %s", sl_now() - t0, dev.name);
     rc = 0;
 done:
     if (rc) fprintf(stderr, "strandlight: %s\n", e.msg);
-    if (have_r) sl_renderer_free(&r);
+    sl_renderer_free(r);
     sl_lobes_free(&lobes);
     sl_hair_free(&h);
     sl_device_close(&dev);

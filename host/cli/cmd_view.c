@@ -93,17 +93,19 @@ static void fill_model(const view_app *a, sl_ui_model *m) {
     m->refined = !v->shown_preview;
     m->strands = (int)v->hair.num_strands;
     const sl_renderer *r = sl_viewer_shown_renderer(v);
-    m->lobes_used = r->lobes_used;
+    m->lobes_used = sl_renderer_lobes_used(r);
     m->t_full = v->t_full;
     m->t_preview = v->t_preview;
     m->t_upload = a->g.t_upload;
     m->t_draw = a->g.t_draw;
-    m->npass = r->npass < SL_UI_MAX_PASSES ? r->npass : SL_UI_MAX_PASSES;
+    int npass = sl_renderer_npass(r);
+    m->npass = npass < SL_UI_MAX_PASSES ? npass : SL_UI_MAX_PASSES;
     for (int i = 0; i < m->npass; i++) {
-        snprintf(m->pass[i].name, sizeof m->pass[i].name, "%s", r->pass[i].name);
-        snprintf(m->pass[i].why, sizeof m->pass[i].why, "%s", r->pass[i].why);
-        m->pass[i].state = r->pass[i].state;
-        m->pass[i].seconds = r->pass[i].seconds;
+        const sl_pass_rec *p = sl_renderer_pass_at(r, i);
+        snprintf(m->pass[i].name, sizeof m->pass[i].name, "%s", p->name);
+        snprintf(m->pass[i].why, sizeof m->pass[i].why, "%s", p->why);
+        m->pass[i].state = p->state;
+        m->pass[i].seconds = p->seconds;
     }
 }
 

@@ -13,15 +13,17 @@
  *               plus multiple scattering (voxel grid + shadow-path march, host/passes/volume/volume.h, and
  *               the response per fragment and lobe, host/passes/volume/volume_ms.h)
  *   resolve     front-to-back compositing of each pixel's K entries into beauty + AOVs
+ *               (host/passes/resolve/resolve.h)
  *
- *   sl_renderer r; sl_renderer_init(&r, &dev, NULL);
+ *   sl_renderer *r = sl_renderer_create(&dev, NULL);
  *   sl_fbuf fb = {0};
- *   if (sl_renderer_frame(&r, scene, hair, lobes, &cam, &fb, &e)) ...;
- *   sl_renderer_explain(&r, stderr);       // each pass: run / cached / skipped, why, time
- *   sl_fbuf_free(&fb); sl_renderer_free(&r);
+ *   if (sl_renderer_frame(r, scene, hair, lobes, &cam, &fb, &e)) ...;
+ *   sl_renderer_explain(r, stderr);        // each pass: run / cached / skipped, why, time, key
+ *   sl_fbuf_free(&fb); sl_renderer_free(r);
  *
- * Calling sl_renderer_frame again with the same renderer reuses whatever still matches
- * (hashes of the inputs each pass reads). Results are deterministic: they do not depend on the
+ * The passes are data (plan/passes.h): calling sl_renderer_frame again with the same renderer
+ * reuses whatever still matches (each keyed pass: a hash of the inputs it declares and its own
+ * settings). Results are deterministic: they do not depend on the
  * thread count, and a frame rendered alone equals the same frame rendered after others. */
 #ifndef SL_FRAME_H
 #define SL_FRAME_H
@@ -99,64 +101,13 @@ typedef struct sl_pass_rec {
 } sl_pass_rec;
 #define SL_FRAME_MAX_PASSES 16
 
-typedef struct sl_renderer {
-    sl_device *dev;
-    sl_render_opts o;
-    /* caches */
-    int have_tables;
-    sl_srbf_tables tables;
-    uint64_t light_key;
-    int nlights;     /* shadow maps: one per used lobe, several for a broad lobe */
-    int *light_lobe; /* each map's position in the frame's used-lobe list */
-    double *light_w; /* each map's weight in its lobe's T (host/passes/light/shadow_split.h) */
-    sl_dodm *light;
-    uint64_t dual_key;
-    sl_dual_tables dual;
-    int dual_ok;
-    uint64_t vox_key; /* voxel grid (geometry, quality.voxels): a material edit keeps it */
-    int have_vgrid;
-    uint64_t vol_key; /* march textures (voxel grid, used lobes, material through dual) */
-    int have_vol;
-    sl_voxel_grid vgrid;
-    sl_ftex ftex;
-    uint64_t vms_key; /* multiple-scattering response tables (material) */
-    int have_vms;
-    sl_volume_ms vms;
-    uint64_t view_key;
-    int vw, vh, vK;
-    sl_kfrag *kbuf;
-    uint8_t *kcount;
-    size_t frags, merges;
-    int kbuf_on_device;  /* the last K-buffer fill ran on OpenCL */
-    float seg_px_median; /* median projected segment length (pixels) of the last view pass */
-    /* per-strand absorption overrides (painted, or from the file's colours; docs/frame.md):
-     * 3 floats (sigma_a r, g, b) per strand, or NULL: every strand uses the material's sigma_a.
-     * Set with sl_renderer_set_strand_sigma_a; the key is part of the shading pass's inputs
-     * only (editing sigma_a re-runs shading, never the view or light passes). */
-    float *strand_sigma_a;
-    uint32_t strand_sigma_a_n;
-    uint64_t strand_key;
-    /* Ren 2010's table (docs/frame.md, "SRBF method"): built or loaded by the planner, kept
-     * while the material is unchanged (sl_srbf_ren_matches); ren_mem: the table resident on the
-     * OpenCL device (uploaded once per table) when shading runs there */
-    int have_ren;
-    sl_srbf_ren ren;
-    cl_mem ren_mem;
-    int editing;      /* sl_renderer_set_editing: the material is being edited -> fast */
-    long frames_done; /* frames rendered by this renderer (auto: frames left = o.frames - it) */
-    int srbf_used;    /* the last frame's method: SL_SRBF_METHOD_XU, _FAST or SL_RENDER_SRBF_TABLE
-                         (table: rows of strands with a per-strand sigma_a other than the
-                         material's still use fast) */
-    char srbf_why[300];
-    /* last frame's plan */
-    int npass;
-    sl_pass_rec pass[SL_FRAME_MAX_PASSES];
-    int rate_k; /* 0: fragment, k >= 1: every k-th vertex */
-    int ms_on, lobes_used;
-    double total_s;
-} sl_renderer;
+/* The renderer: the passes' caches and the last frame's plan (its state is private to
+ * host/plan and host/passes, plan/renderer.h). */
+typedef struct sl_renderer sl_renderer;
 
-void sl_renderer_init(sl_renderer *r, sl_device *dev, const sl_render_opts *o);
+/* A renderer on dev (which must outlive it) with options o (NULL: the defaults). */
+sl_renderer *sl_renderer_create(sl_device *dev, const sl_render_opts *o);
+/* Frees r and its caches; NULL is allowed. */
 void sl_renderer_free(sl_renderer *r);
 /* Renders one frame of s (its material, quality and image size; the camera is cam) into out
  * (allocated here; free with sl_fbuf_free). Returns 0 or -1 with e set. */
@@ -173,6 +124,24 @@ void sl_renderer_set_editing(sl_renderer *r, int editing);
 void sl_renderer_explain(const sl_renderer *r, FILE *f);
 /* The record of pass `name` in the last plan, NULL if it has none. */
 const sl_pass_rec *sl_renderer_pass(const sl_renderer *r, const char *name);
+/* The last plan's records, in order: sl_renderer_npass of them, record i (NULL out of range). */
+int sl_renderer_npass(const sl_renderer *r);
+const sl_pass_rec *sl_renderer_pass_at(const sl_renderer *r, int i);
+
+/* What the last frame decided: the lobes it shaded (after quality.lobe_threshold, before any
+ * subdivision), whether multiple scattering was on, the shading rate (0 fragment, k >= 1 every
+ * k-th vertex) and the SRBF method used (SL_SRBF_METHOD_XU, _FAST or SL_RENDER_SRBF_TABLE). */
+int sl_renderer_lobes_used(const sl_renderer *r);
+int sl_renderer_ms_on(const sl_renderer *r);
+int sl_renderer_shading_rate(const sl_renderer *r);
+int sl_renderer_srbf_used(const sl_renderer *r);
+/* The last view pass's K-buffer (w x h pixels, K entries each, kcount[px] of them filled),
+ * owned by r. take: the same, handed over to the caller (free both with free()); the next
+ * frame re-runs the view pass. Return 0, or -1 when there is none. */
+int sl_renderer_kbuffer(const sl_renderer *r, int *w, int *h, int *K, const sl_kfrag **kbuf,
+                        const uint8_t **kcount);
+int sl_renderer_take_kbuffer(sl_renderer *r, int *w, int *h, int *K, sl_kfrag **kbuf,
+                             uint8_t **kcount);
 
 /* Memory the frame of scene s needs, from the same size rules the passes allocate with (so the
  * estimate cannot drift from the allocations): the frame buffer (SL_FBUF_FLOATS per pixel), the

@@ -1,28 +1,15 @@
-/* frame_internal.h: what the files of the frame (frame.c, frame_view.c, frame_shade.c) share. */
+/* frame_internal.h: what the files of the frame (frame.c, the passes' runs, frame_view.c,
+ * frame_shade.c) share. */
 #ifndef SL_FRAME_INTERNAL_H
 #define SL_FRAME_INTERNAL_H
 
 #include "plan/frame.h"
+#include "plan/renderer.h"
 
-/* Floats of one shading point's result: R, TT, TRT, MS (rgb each), shadow, lobe count. */
-#define SL_SHADE_FLOATS 14
-
-void sl_frame_pass(sl_renderer *r, const char *name, int state, double seconds, const char *fmt,
-                   ...) __attribute__((format(printf, 5, 6)));
 int sl_frame_threads(const sl_renderer *r);
 
 /* The view pass: fills r->kbuf, r->kcount (w x h x K) and r->frags, r->merges, seg_px_median. */
 int sl_frame_view(sl_renderer *r, const sl_hair *h, const sl_camera *cam, int K, sl_err *e);
-
-/* Shading points and what they need. */
-typedef struct sl_shade_points {
-    size_t n;
-    double *pos;      /* 3 n */
-    float *tan;       /* 3 n, unit */
-    uint32_t *strand; /* n: the strand of each point (for per-strand sigma_a, r->strand_sigma_a) */
-    float *T;         /* nlobes x n: transmittance toward each used lobe (1 without a map) */
-    float *out;       /* SL_SHADE_FLOATS n */
-} sl_shade_points;
 
 typedef struct sl_shade_ctx {
     const sl_material *mat;

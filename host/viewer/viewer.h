@@ -67,7 +67,7 @@ typedef struct sl_viewer {
 
     sl_device dev;
     int have_dev;
-    sl_renderer full, preview;
+    sl_renderer *full, *preview;
     int have_renderers;
     sl_fbuf shown;           /* the frame on screen */
     sl_fbuf last_full;       /* the last refined frame (its depth serves the brush's depth test) */

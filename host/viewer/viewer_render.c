@@ -34,8 +34,8 @@ int sl_viewer_open(sl_viewer *v, const char *scene_path, const char *device, int
     sl_render_opts o;
     sl_render_opts_default(&o);
     o.quiet = 1;
-    sl_renderer_init(&v->full, &v->dev, &o);
-    sl_renderer_init(&v->preview, &v->dev, &o);
+    v->full = sl_renderer_create(&v->dev, &o);
+    v->preview = sl_renderer_create(&v->dev, &o);
     v->have_renderers = 1;
     v->dirty = 1;
     return 0;
@@ -43,8 +43,8 @@ int sl_viewer_open(sl_viewer *v, const char *scene_path, const char *device, int
 
 void sl_viewer_close(sl_viewer *v) {
     if (v->have_renderers) {
-        sl_renderer_free(&v->full);
-        sl_renderer_free(&v->preview);
+        sl_renderer_free(v->full);
+        sl_renderer_free(v->preview);
     }
     sl_fbuf_free(&v->shown);
     sl_fbuf_free(&v->last_full);
@@ -62,15 +62,15 @@ int sl_viewer_set_device(sl_viewer *v, const char *spec, sl_err *e) {
     sl_device nd = {0};
     if (sl_device_open(spec, &nd, e)) return -1;
     if (v->gl) sl_vgl_release_cl(v->gl);
-    sl_renderer_free(&v->full);
-    sl_renderer_free(&v->preview);
+    sl_renderer_free(v->full);
+    sl_renderer_free(v->preview);
     sl_device_close(&v->dev);
     v->dev = nd;
     sl_render_opts o;
     sl_render_opts_default(&o);
     o.quiet = 1;
-    sl_renderer_init(&v->full, &v->dev, &o);
-    sl_renderer_init(&v->preview, &v->dev, &o);
+    v->full = sl_renderer_create(&v->dev, &o);
+    v->preview = sl_renderer_create(&v->dev, &o);
     if (v->gl) sl_vgl_interop(v->gl, &v->dev);
     v->paint.applied_key = 0; /* the new renderers hold no paint yet */
     v->dirty = 1;
@@ -89,8 +89,8 @@ static int apply_paint(sl_viewer *v, sl_err *e) {
     int rc = 0;
     if (key != v->paint.applied_key) {
         uint32_t n = sa ? v->hair.num_strands : 0;
-        rc = sl_renderer_set_strand_sigma_a(&v->full, sa, n, e) ||
-             sl_renderer_set_strand_sigma_a(&v->preview, sa, n, e);
+        rc = sl_renderer_set_strand_sigma_a(v->full, sa, n, e) ||
+             sl_renderer_set_strand_sigma_a(v->preview, sa, n, e);
         if (!rc) v->paint.applied_key = key;
     }
     free(sa);
@@ -115,14 +115,14 @@ int sl_viewer_render(sl_viewer *v, sl_err *e) {
     sl_scene *s = sl_malloc(sizeof *s);
     *s = v->scene;
     const sl_lobes *lobes = &v->lobes;
-    sl_renderer *r = &v->full;
+    sl_renderer *r = v->full;
     if (preview) {
         s->width = s->width > 1 ? s->width / 2 : 1;
         s->height = s->height > 1 ? s->height / 2 : 1;
         s->multiple_scattering = SL_MS_OFF;
         snprintf(s->shading_rate, sizeof s->shading_rate, "vertex");
         lobes = &v->lobes_preview;
-        r = &v->preview;
+        r = v->preview;
     }
     sl_camera cam;
     sl_viewer_camera(v, s->width, s->height, &cam);
@@ -152,5 +152,5 @@ int sl_viewer_render(sl_viewer *v, sl_err *e) {
 }
 
 const sl_renderer *sl_viewer_shown_renderer(const sl_viewer *v) {
-    return v->shown_preview ? &v->preview : &v->full;
+    return v->shown_preview ? v->preview : v->full;
 }

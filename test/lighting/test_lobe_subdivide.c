@@ -159,26 +159,26 @@ TEST(subdiv_frame_identical_without_broad_lobes) {
         t.l.lobe[j].lambda = fmin(t.l.lobe[j].lambda, 0.25);
     sl_device dev = {0};
     sl_fbuf a, b;
-    sl_renderer r;
+    sl_renderer *r = NULL;
     sl_render_opts o;
     sl_render_opts_default(&o);
     o.srbf_method = SL_SRBF_METHOD_FAST;
     o.quiet = 1;
-    sl_renderer_init(&r, &dev, &o);
+    r = sl_renderer_create(&dev, &o);
     t.s.broad_lobes = SL_BROAD_SPLIT;
-    CHECK(frame_tiny_render(&r, &t, &a) == 0);
-    sl_renderer_free(&r);
-    sl_renderer_init(&r, &dev, &o);
+    CHECK(frame_tiny_render(r, &t, &a) == 0);
+    sl_renderer_free(r);
+    r = sl_renderer_create(&dev, &o);
     t.s.broad_lobes = SL_BROAD_SUBDIVIDE;
-    CHECK(frame_tiny_render(&r, &t, &b) == 0);
-    CHECK(frame_pass_state(&r, "subdivide") == SL_PASS_SKIPPED);
+    CHECK(frame_tiny_render(r, &t, &b) == 0);
+    CHECK(frame_pass_state(r, "subdivide") == SL_PASS_SKIPPED);
     size_t n = (size_t)a.width * a.height;
     CHECK(memcmp(a.rgba, b.rgba, 4 * n * sizeof(float)) == 0);
     for (int m = 0; m < 4; m++)
         CHECK(memcmp(a.mode[m], b.mode[m], 3 * n * sizeof(float)) == 0);
     sl_fbuf_free(&a);
     sl_fbuf_free(&b);
-    sl_renderer_free(&r);
+    sl_renderer_free(r);
     frame_tiny_close(&t, &dev);
 }
 
@@ -244,16 +244,15 @@ TEST(subdiv_frame_broad_lobe_vs_reference) {
     size_t n = 64 * 48;
     double tt[2], err[2];
     for (int mode = 0; mode < 2; mode++) {
-        sl_renderer r;
-        sl_renderer_init(&r, &dev, &o);
+        sl_renderer *r = sl_renderer_create(&dev, &o);
         t.s.broad_lobes = mode ? SL_BROAD_SUBDIVIDE : SL_BROAD_SPLIT;
         sl_fbuf fb;
-        CHECK(frame_tiny_render(&r, &t, &fb) == 0);
-        CHECK(frame_pass_state(&r, "subdivide") == (mode ? SL_PASS_RUN : SL_PASS_SKIPPED));
+        CHECK(frame_tiny_render(r, &t, &fb) == 0);
+        CHECK(frame_pass_state(r, "subdivide") == (mode ? SL_PASS_RUN : SL_PASS_SKIPPED));
         tt[mode] = subdiv_tt(fb.mode[1], 3, n);
         sl_image_error_blocks(fb.rgba, ref.rgba, 64, 48, 4, &err[mode], NULL);
         sl_fbuf_free(&fb);
-        sl_renderer_free(&r);
+        sl_renderer_free(r);
     }
     double tt_ref = subdiv_tt(ref.mode_rgb + 3, 9, n);
     printf("subdiv reference: TT fast/ref split %.3f subdivide %.3f; 4x4 error split %.3f "

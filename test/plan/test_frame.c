@@ -12,6 +12,7 @@
 #include "kbuffer.h"
 #include "view.h"
 #include "passes/view/view_cl.h"
+#include "plan/renderer.h" /* white box: the buffers the estimate counts */
 
 #include <stdlib.h>
 #include <string.h>
@@ -132,30 +133,30 @@ TEST(frame_planner_camera_move_reuses_light) {
     frame_tiny t;
     sl_device dev = {0};
     tiny_open(&t, 200, &dev);
-    sl_renderer r;
+    sl_renderer *r = NULL;
     sl_render_opts o;
     sl_render_opts_default(&o);
     o.quiet = 1;
-    sl_renderer_init(&r, &dev, &o);
+    r = sl_renderer_create(&dev, &o);
     sl_fbuf a, b, c;
     t.s.multiple_scattering = SL_MS_ON;
-    CHECK(frame_tiny_render(&r, &t, &a) == 0);
-    CHECK(frame_pass_state(&r, "light") == SL_PASS_RUN);
-    CHECK(frame_pass_state(&r, "volume") == SL_PASS_RUN);
-    CHECK(frame_pass_state(&r, "ms table") == SL_PASS_RUN);
-    CHECK(frame_pass_state(&r, "view") == SL_PASS_RUN);
+    CHECK(frame_tiny_render(r, &t, &a) == 0);
+    CHECK(frame_pass_state(r, "light") == SL_PASS_RUN);
+    CHECK(frame_pass_state(r, "volume") == SL_PASS_RUN);
+    CHECK(frame_pass_state(r, "ms table") == SL_PASS_RUN);
+    CHECK(frame_pass_state(r, "view") == SL_PASS_RUN);
     /* camera move: no light pass, no volume pass, the view pass re-runs */
     t.cam.eye[0] += 3.0;
-    CHECK(frame_tiny_render(&r, &t, &b) == 0);
-    CHECK(frame_pass_state(&r, "light") == SL_PASS_CACHED);
-    CHECK(frame_pass_state(&r, "volume") == SL_PASS_CACHED);
-    CHECK(frame_pass_state(&r, "ms table") == SL_PASS_CACHED);
-    CHECK(frame_pass_state(&r, "view") == SL_PASS_RUN);
+    CHECK(frame_tiny_render(r, &t, &b) == 0);
+    CHECK(frame_pass_state(r, "light") == SL_PASS_CACHED);
+    CHECK(frame_pass_state(r, "volume") == SL_PASS_CACHED);
+    CHECK(frame_pass_state(r, "ms table") == SL_PASS_CACHED);
+    CHECK(frame_pass_state(r, "view") == SL_PASS_RUN);
     /* material edit: neither light nor view re-runs, the image changes */
     t.s.material.sigma_a[0] = 2.0;
-    CHECK(frame_tiny_render(&r, &t, &c) == 0);
-    CHECK(frame_pass_state(&r, "light") == SL_PASS_CACHED);
-    CHECK(frame_pass_state(&r, "view") == SL_PASS_CACHED);
+    CHECK(frame_tiny_render(r, &t, &c) == 0);
+    CHECK(frame_pass_state(r, "light") == SL_PASS_CACHED);
+    CHECK(frame_pass_state(r, "view") == SL_PASS_CACHED);
     double d = 0;
     for (int i = 0; i < 64 * 48 * 4; i++)
         d += fabs(c.rgba[i] - b.rgba[i]);
@@ -163,7 +164,7 @@ TEST(frame_planner_camera_move_reuses_light) {
     sl_fbuf_free(&a);
     sl_fbuf_free(&b);
     sl_fbuf_free(&c);
-    sl_renderer_free(&r);
+    sl_renderer_free(r);
     frame_tiny_close(&t, &dev);
 }
 
@@ -173,16 +174,15 @@ TEST(frame_planner_dark_hair_skips_ms) {
     frame_tiny t;
     sl_device dev = {0};
     tiny_open(&t, 100, &dev);
-    sl_renderer r;
-    sl_renderer_init(&r, &dev, NULL);
+    sl_renderer *r = sl_renderer_create(&dev, NULL);
     sl_fbuf a;
     t.s.multiple_scattering = SL_MS_AUTO;
     for (int c = 0; c < 3; c++)
         t.s.material.sigma_a[c] = 8.0;
-    CHECK(frame_tiny_render(&r, &t, &a) == 0);
-    CHECK(frame_pass_state(&r, "ms") == SL_PASS_SKIPPED);
-    CHECK(frame_pass_state(&r, "volume") == SL_PASS_SKIPPED);
-    CHECK(frame_pass_state(&r, "ms table") == SL_PASS_SKIPPED);
+    CHECK(frame_tiny_render(r, &t, &a) == 0);
+    CHECK(frame_pass_state(r, "ms") == SL_PASS_SKIPPED);
+    CHECK(frame_pass_state(r, "volume") == SL_PASS_SKIPPED);
+    CHECK(frame_pass_state(r, "ms table") == SL_PASS_SKIPPED);
     double ms = 0;
     for (int i = 0; i < 64 * 48 * 3; i++)
         ms += a.mode[3][i];
@@ -190,15 +190,15 @@ TEST(frame_planner_dark_hair_skips_ms) {
     sl_fbuf_free(&a);
     for (int c = 0; c < 3; c++)
         t.s.material.sigma_a[c] = 0.0;
-    CHECK(frame_tiny_render(&r, &t, &a) == 0);
-    CHECK(frame_pass_state(&r, "ms") == SL_PASS_RUN);
-    CHECK(frame_pass_state(&r, "volume") == SL_PASS_RUN);
+    CHECK(frame_tiny_render(r, &t, &a) == 0);
+    CHECK(frame_pass_state(r, "ms") == SL_PASS_RUN);
+    CHECK(frame_pass_state(r, "volume") == SL_PASS_RUN);
     ms = 0;
     for (int i = 0; i < 64 * 48 * 3; i++)
         ms += a.mode[3][i];
     CHECK(ms > 0);
     sl_fbuf_free(&a);
-    sl_renderer_free(&r);
+    sl_renderer_free(r);
     frame_tiny_close(&t, &dev);
 }
 
@@ -208,22 +208,21 @@ TEST(frame_negligible_lobe_skipped) {
     frame_tiny t;
     sl_device dev = {0};
     tiny_open(&t, 100, &dev);
-    sl_renderer r;
-    sl_renderer_init(&r, &dev, NULL);
+    sl_renderer *r = sl_renderer_create(&dev, NULL);
     sl_fbuf a, b;
-    CHECK(frame_tiny_render(&r, &t, &a) == 0);
-    CHECK(frame_pass_state(&r, "lobes") == SL_PASS_RUN);
+    CHECK(frame_tiny_render(r, &t, &a) == 0);
+    CHECK(frame_pass_state(r, "lobes") == SL_PASS_RUN);
     t.l.lobe = realloc(t.l.lobe, 5 * sizeof *t.l.lobe);
     t.l.lobe[4] = (sl_lobe){{1, 0, 0}, 0.5, {1e-9, 1e-9, 1e-9}};
     t.l.count = 5;
-    CHECK(frame_tiny_render(&r, &t, &b) == 0);
-    CHECK(frame_pass_state(&r, "lobes") == SL_PASS_SKIPPED);
-    CHECK(r.lobes_used == 4);
+    CHECK(frame_tiny_render(r, &t, &b) == 0);
+    CHECK(frame_pass_state(r, "lobes") == SL_PASS_SKIPPED);
+    CHECK(sl_renderer_lobes_used(r) == 4);
     double mx, md = frame_max_diff(&a, &b, &mx);
     CHECK(md <= 1e-6 * mx);
     sl_fbuf_free(&a);
     sl_fbuf_free(&b);
-    sl_renderer_free(&r);
+    sl_renderer_free(r);
     frame_tiny_close(&t, &dev);
 }
 
@@ -241,13 +240,13 @@ TEST(frame_aovs_consistent_and_deterministic) {
     sl_render_opts o;
     sl_render_opts_default(&o);
     o.threads = 1;
-    sl_renderer r1, r2;
-    sl_renderer_init(&r1, &dev, &o);
+    sl_renderer *r1 = NULL, *r2 = NULL;
+    r1 = sl_renderer_create(&dev, &o);
     o.threads = 2;
-    sl_renderer_init(&r2, &dev, &o);
+    r2 = sl_renderer_create(&dev, &o);
     sl_fbuf a, b;
-    CHECK(frame_tiny_render(&r1, &t, &a) == 0);
-    CHECK(frame_tiny_render(&r2, &t, &b) == 0);
+    CHECK(frame_tiny_render(r1, &t, &a) == 0);
+    CHECK(frame_tiny_render(r2, &t, &b) == 0);
     size_t n = 64 * 48;
     int covered = 0;
     for (size_t i = 0; i < n; i++) {
@@ -268,8 +267,8 @@ TEST(frame_aovs_consistent_and_deterministic) {
     CHECK(memcmp(a.rgba, b.rgba, 4 * n * sizeof(float)) == 0);
     sl_fbuf_free(&a);
     sl_fbuf_free(&b);
-    sl_renderer_free(&r1);
-    sl_renderer_free(&r2);
+    sl_renderer_free(r1);
+    sl_renderer_free(r2);
     frame_tiny_close(&t, &dev);
 }
 
@@ -284,15 +283,14 @@ TEST(frame_shading_rates_agree) {
     frame_tiny t;
     sl_device dev = {0};
     tiny_open(&t, 200, &dev);
-    sl_renderer r;
-    sl_renderer_init(&r, &dev, NULL);
+    sl_renderer *r = sl_renderer_create(&dev, NULL);
     sl_fbuf a, b;
     snprintf(t.s.shading_rate, sizeof t.s.shading_rate, "fragment");
-    CHECK(frame_tiny_render(&r, &t, &a) == 0);
-    CHECK(r.rate_k == 0);
+    CHECK(frame_tiny_render(r, &t, &a) == 0);
+    CHECK(sl_renderer_shading_rate(r) == 0);
     snprintf(t.s.shading_rate, sizeof t.s.shading_rate, "vertex");
-    CHECK(frame_tiny_render(&r, &t, &b) == 0);
-    CHECK(r.rate_k == 1);
+    CHECK(frame_tiny_render(r, &t, &b) == 0);
+    CHECK(sl_renderer_shading_rate(r) == 1);
     double d = 0, m = 0;
     for (int i = 0; i < 64 * 48; i++)
         for (int c = 0; c < 3; c++) {
@@ -309,7 +307,7 @@ TEST(frame_shading_rates_agree) {
     CHECK_MSG(d < 0.20 * m, "mean rel diff %.4f", d / m);
     sl_fbuf_free(&a);
     sl_fbuf_free(&b);
-    sl_renderer_free(&r);
+    sl_renderer_free(r);
     frame_tiny_close(&t, &dev);
 }
 
@@ -327,21 +325,21 @@ TEST(frame_c_vs_opencl) {
     CHECK(tiny_setup(&t, 150) == 0);
     sl_device c = {0};
     CHECK(sl_device_open("c", &c, &e) == 0);
-    sl_renderer rc, ro;
-    sl_renderer_init(&rc, &c, NULL);
-    sl_renderer_init(&ro, &cl, NULL);
+    sl_renderer *rc = NULL, *ro = NULL;
+    rc = sl_renderer_create(&c, NULL);
+    ro = sl_renderer_create(&cl, NULL);
     sl_fbuf a, b;
-    CHECK(frame_tiny_render(&rc, &t, &a) == 0);
+    CHECK(frame_tiny_render(rc, &t, &a) == 0);
     unsigned long k0 = sl_cl_kernels_enqueued();
-    CHECK(frame_tiny_render(&ro, &t, &b) == 0);
+    CHECK(frame_tiny_render(ro, &t, &b) == 0);
     CHECK_CL_RAN(k0);
     double mx, md = frame_max_diff(&a, &b, &mx);
     CHECK(mx > 0);
     CHECK_MSG(md <= 1e-3 * mx, "max diff %g of max %g", md, mx);
     sl_fbuf_free(&a);
     sl_fbuf_free(&b);
-    sl_renderer_free(&rc);
-    sl_renderer_free(&ro);
+    sl_renderer_free(rc);
+    sl_renderer_free(ro);
     sl_device_close(&c);
     sl_device_close(&cl);
     frame_tiny_free(&t);
@@ -389,14 +387,11 @@ static sl_renderer *new_renderer(sl_device *dev, int threads) {
     sl_render_opts_default(&o);
     o.threads = threads;
     o.quiet = 1;
-    sl_renderer *r = malloc(sizeof *r);
-    sl_renderer_init(r, dev, &o);
-    return r;
+    return sl_renderer_create(dev, &o);
 }
 
 static void delete_renderer(sl_renderer *r) {
     sl_renderer_free(r);
-    free(r);
 }
 
 /* The paint tests' state: the tiny scene with 150 strands, MS on and fragment-rate shading on a
@@ -534,7 +529,7 @@ TEST(frame_threshold_keys_drive_the_planner) {
     t.s.lobe_threshold = 0.2;
     CHECK(frame_tiny_render_drop(r, &t) == 0);
     CHECK(frame_pass_state(r, "lobes") == SL_PASS_SKIPPED);
-    CHECK(r->lobes_used == 2);
+    CHECK(sl_renderer_lobes_used(r) == 2);
     const sl_pass_rec *p = sl_renderer_pass(r, "lobes");
     CHECK(p && strstr(p->why, "quality.lobe_threshold") != NULL);
     t.s.lobe_threshold = 1e-3;

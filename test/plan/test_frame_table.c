@@ -10,6 +10,7 @@
 #include "cl_fixture.h"
 
 #include "frame_fixture.h"
+#include "plan/renderer.h" /* white box: the renderer's Ren table */
 
 #include <math.h>
 #include <stdlib.h>
@@ -38,8 +39,7 @@ static const char *table_dir(const char *name, char *buf, size_t n) {
 }
 
 /* sl_renderer with the small test table (or default parameters when n_h == 0). */
-static void init_r(sl_renderer *r, sl_device *dev, int method, int frames,
-                   const sl_srbf_ren_params *tp) {
+static sl_renderer *init_r(sl_device *dev, int method, int frames, const sl_srbf_ren_params *tp) {
     sl_render_opts o;
     sl_render_opts_default(&o);
     o.threads = 2;
@@ -47,7 +47,7 @@ static void init_r(sl_renderer *r, sl_device *dev, int method, int frames,
     o.srbf_method = method;
     o.frames = frames;
     o.table_params = tp;
-    sl_renderer_init(r, dev, &o);
+    return sl_renderer_create(dev, &o);
 }
 
 static void small_params(sl_srbf_ren_params *p, const char *dir) {
@@ -85,75 +85,75 @@ TEST(frame_table_auto_planner) {
     table_begin(&t, &dev, "auto", dir, sizeof dir, &tp);
     /* the build of the small table: 24 x 8 x 8 x 8 nodes x 3 modes (grey, round fiber) */
     CHECK_NEAR(sl_srbf_ren_build_rows(&t.s.material, &tp), 24.0 * 8 * 8 * 8 * 3, 0);
-    sl_renderer r;
+    sl_renderer *r = NULL;
     /* one frame, nothing cached: a build (36864 rows) does not pay for one frame of ~17 000
      * rows (x 0.9). The fixture's 4 lobes kept whole: subdividing its 3 broad lobes
      * (quality.broad_lobes, the default) gives ~47 000 rows, and one frame would pay */
     t.s.broad_lobes = SL_BROAD_SPLIT;
-    init_r(&r, &dev, SL_RENDER_SRBF_AUTO, 1, &tp);
-    CHECK(frame_tiny_render_drop(&r, &t) == 0);
-    CHECK(r.srbf_used == SL_SRBF_METHOD_FAST);
-    CHECK(srbf_state(&r) == SL_PASS_SKIPPED);
-    CHECK(why_has(&r, "would not pay off"));
-    if (sl_renderer_pass(&r, "srbf")) fprintf(stderr, "  %s\n", sl_renderer_pass(&r, "srbf")->why);
+    r = init_r(&dev, SL_RENDER_SRBF_AUTO, 1, &tp);
+    CHECK(frame_tiny_render_drop(r, &t) == 0);
+    CHECK(sl_renderer_srbf_used(r) == SL_SRBF_METHOD_FAST);
+    CHECK(srbf_state(r) == SL_PASS_SKIPPED);
+    CHECK(why_has(r, "would not pay off"));
+    if (sl_renderer_pass(r, "srbf")) fprintf(stderr, "  %s\n", sl_renderer_pass(r, "srbf")->why);
     CHECK(!sl_srbf_ren_cached(&t.s.material, &tp, NULL));
-    sl_renderer_free(&r);
+    sl_renderer_free(r);
     /* an orbit of 1000 frames pays: built (run), cached on disk; the next frame (camera moved)
      * keeps it in memory */
-    init_r(&r, &dev, SL_RENDER_SRBF_AUTO, 1000, &tp);
-    CHECK(frame_tiny_render_drop(&r, &t) == 0);
-    CHECK(r.srbf_used == SL_RENDER_SRBF_TABLE);
-    CHECK(srbf_state(&r) == SL_PASS_RUN);
-    CHECK(why_has(&r, "pays off"));
+    r = init_r(&dev, SL_RENDER_SRBF_AUTO, 1000, &tp);
+    CHECK(frame_tiny_render_drop(r, &t) == 0);
+    CHECK(sl_renderer_srbf_used(r) == SL_RENDER_SRBF_TABLE);
+    CHECK(srbf_state(r) == SL_PASS_RUN);
+    CHECK(why_has(r, "pays off"));
     CHECK(sl_srbf_ren_cached(&t.s.material, &tp, NULL));
     t.cam.eye[0] += 1.0;
-    CHECK(frame_tiny_render_drop(&r, &t) == 0);
-    CHECK(r.srbf_used == SL_RENDER_SRBF_TABLE);
-    CHECK(srbf_state(&r) == SL_PASS_CACHED);
+    CHECK(frame_tiny_render_drop(r, &t) == 0);
+    CHECK(sl_renderer_srbf_used(r) == SL_RENDER_SRBF_TABLE);
+    CHECK(srbf_state(r) == SL_PASS_CACHED);
     /* editing the material: fast while the editing flag is up, even though a table for the
      * old material is in memory */
-    sl_renderer_set_editing(&r, 1);
+    sl_renderer_set_editing(r, 1);
     t.s.material.beta[0] *= 1.1;
-    CHECK(frame_tiny_render_drop(&r, &t) == 0);
-    CHECK(r.srbf_used == SL_SRBF_METHOD_FAST);
-    CHECK(why_has(&r, "being edited"));
-    sl_renderer_free(&r);
+    CHECK(frame_tiny_render_drop(r, &t) == 0);
+    CHECK(sl_renderer_srbf_used(r) == SL_SRBF_METHOD_FAST);
+    CHECK(why_has(r, "being edited"));
+    sl_renderer_free(r);
     t.s.material.beta[0] /= 1.1;
     /* a single frame of the original material: the table is in the disk cache -> loaded */
-    init_r(&r, &dev, SL_RENDER_SRBF_AUTO, 1, &tp);
-    CHECK(frame_tiny_render_drop(&r, &t) == 0);
-    CHECK(r.srbf_used == SL_RENDER_SRBF_TABLE);
-    CHECK(why_has(&r, "disk cache"));
-    CHECK(r.have_ren && r.ren.from_cache);
+    r = init_r(&dev, SL_RENDER_SRBF_AUTO, 1, &tp);
+    CHECK(frame_tiny_render_drop(r, &t) == 0);
+    CHECK(sl_renderer_srbf_used(r) == SL_RENDER_SRBF_TABLE);
+    CHECK(why_has(r, "disk cache"));
+    CHECK(r->have_ren && r->ren.from_cache);
     /* the same renderer, editing flag up: fast although the table is in memory */
-    sl_renderer_set_editing(&r, 1);
-    CHECK(frame_tiny_render_drop(&r, &t) == 0);
-    CHECK(r.srbf_used == SL_SRBF_METHOD_FAST);
+    sl_renderer_set_editing(r, 1);
+    CHECK(frame_tiny_render_drop(r, &t) == 0);
+    CHECK(sl_renderer_srbf_used(r) == SL_SRBF_METHOD_FAST);
     /* settled again: back to the table, still in memory */
-    sl_renderer_set_editing(&r, 0);
-    CHECK(frame_tiny_render_drop(&r, &t) == 0);
-    CHECK(r.srbf_used == SL_RENDER_SRBF_TABLE);
-    CHECK(srbf_state(&r) == SL_PASS_CACHED);
-    sl_renderer_free(&r);
+    sl_renderer_set_editing(r, 0);
+    CHECK(frame_tiny_render_drop(r, &t) == 0);
+    CHECK(sl_renderer_srbf_used(r) == SL_RENDER_SRBF_TABLE);
+    CHECK(srbf_state(r) == SL_PASS_CACHED);
+    sl_renderer_free(r);
     /* eccentric fiber: auto keeps fast however many frames (the rotation average) */
     t.s.material.eccentricity = 0.85;
-    init_r(&r, &dev, SL_RENDER_SRBF_AUTO, 100000, &tp);
-    CHECK(frame_tiny_render_drop(&r, &t) == 0);
-    CHECK(r.srbf_used == SL_SRBF_METHOD_FAST);
-    CHECK(why_has(&r, "eccentric"));
-    sl_renderer_free(&r);
+    r = init_r(&dev, SL_RENDER_SRBF_AUTO, 100000, &tp);
+    CHECK(frame_tiny_render_drop(r, &t) == 0);
+    CHECK(sl_renderer_srbf_used(r) == SL_SRBF_METHOD_FAST);
+    CHECK(why_has(r, "eccentric"));
+    sl_renderer_free(r);
     t.s.material.eccentricity = 1.0;
     /* explicit methods are obeyed: fast with a cached table, table for a single frame */
-    init_r(&r, &dev, SL_SRBF_METHOD_FAST, 1000, &tp);
-    CHECK(frame_tiny_render_drop(&r, &t) == 0);
-    CHECK(r.srbf_used == SL_SRBF_METHOD_FAST);
-    sl_renderer_free(&r);
+    r = init_r(&dev, SL_SRBF_METHOD_FAST, 1000, &tp);
+    CHECK(frame_tiny_render_drop(r, &t) == 0);
+    CHECK(sl_renderer_srbf_used(r) == SL_SRBF_METHOD_FAST);
+    sl_renderer_free(r);
     t.s.material.beta[1] *= 1.2; /* not cached: --method table builds it */
-    init_r(&r, &dev, SL_RENDER_SRBF_TABLE, 1, &tp);
-    CHECK(frame_tiny_render_drop(&r, &t) == 0);
-    CHECK(r.srbf_used == SL_RENDER_SRBF_TABLE);
-    CHECK(srbf_state(&r) == SL_PASS_RUN);
-    sl_renderer_free(&r);
+    r = init_r(&dev, SL_RENDER_SRBF_TABLE, 1, &tp);
+    CHECK(frame_tiny_render_drop(r, &t) == 0);
+    CHECK(sl_renderer_srbf_used(r) == SL_RENDER_SRBF_TABLE);
+    CHECK(srbf_state(r) == SL_PASS_RUN);
+    sl_renderer_free(r);
     frame_tiny_close(&t, &dev);
 }
 
@@ -207,18 +207,18 @@ TEST(frame_table_image_vs_fast) {
      * coarse 12-lambda table meets 0.049 against 0.041 allowed (its self-check samples lambda
      * over the table's range, not the sub-lobes' widths) */
     t.s.broad_lobes = SL_BROAD_SPLIT;
-    sl_renderer rf, rt;
+    sl_renderer *rf = NULL, *rt = NULL;
     sl_fbuf a, b;
-    init_r(&rf, &dev, SL_SRBF_METHOD_FAST, 1, &tp);
-    init_r(&rt, &dev, SL_RENDER_SRBF_TABLE, 1, &tp);
-    CHECK(frame_tiny_render(&rf, &t, &a) == 0);
-    CHECK(frame_tiny_render(&rt, &t, &b) == 0);
-    CHECK(rt.srbf_used == SL_RENDER_SRBF_TABLE && rt.have_ren);
+    rf = init_r(&dev, SL_SRBF_METHOD_FAST, 1, &tp);
+    rt = init_r(&dev, SL_RENDER_SRBF_TABLE, 1, &tp);
+    CHECK(frame_tiny_render(rf, &t, &a) == 0);
+    CHECK(frame_tiny_render(rt, &t, &b) == 0);
+    CHECK(sl_renderer_srbf_used(rt) == SL_RENDER_SRBF_TABLE && rt->have_ren);
     double worst, err = image_err(&a, &b, &worst);
-    double tol = 3 * rt.ren.err_median + 0.01, tolw = 2 * rt.ren.err_p95;
+    double tol = 3 * rt->ren.err_median + 0.01, tolw = 2 * rt->ren.err_p95;
     CHECK_MSG(err > 0 && err <= tol,
               "image error %.4f (tolerance %.4f; table self-check median %.4f p95 %.4f)", err, tol,
-              rt.ren.err_median, rt.ren.err_p95);
+              rt->ren.err_median, rt->ren.err_p95);
     CHECK_MSG(worst <= tolw, "worst pixel %.4f of the peak (tolerance %.4f)", worst, tolw);
     int alpha_same = 1;
     for (int i = 0; i < 64 * 48; i++)
@@ -227,11 +227,11 @@ TEST(frame_table_image_vs_fast) {
     fprintf(
         stderr,
         "  table vs fast: image error %.4f, worst pixel %.4f (self-check median %.4f p95 %.4f)\n",
-        err, worst, rt.ren.err_median, rt.ren.err_p95);
+        err, worst, rt->ren.err_median, rt->ren.err_p95);
     sl_fbuf_free(&a);
     sl_fbuf_free(&b);
-    sl_renderer_free(&rf);
-    sl_renderer_free(&rt);
+    sl_renderer_free(rf);
+    sl_renderer_free(rt);
     frame_tiny_close(&t, &dev);
 }
 
@@ -247,27 +247,26 @@ TEST(frame_table_paint_only_painted_strands) {
     char dir[4200];
     sl_srbf_ren_params tp;
     table_begin(&t, &dev, "paint", dir, sizeof dir, &tp);
-    sl_renderer r;
-    init_r(&r, &dev, SL_RENDER_SRBF_TABLE, 1, &tp);
+    sl_renderer *r = init_r(&dev, SL_RENDER_SRBF_TABLE, 1, &tp);
     sl_fbuf a, b, c;
-    CHECK(frame_tiny_render(&r, &t, &a) == 0);
+    CHECK(frame_tiny_render(r, &t, &a) == 0);
     uint32_t n = t.h.num_strands;
     float *sa = frame_strand_sigma_a(&t);
-    CHECK(sl_renderer_set_strand_sigma_a(&r, sa, n, &e) == 0);
-    CHECK(frame_tiny_render(&r, &t, &c) == 0);
+    CHECK(sl_renderer_set_strand_sigma_a(r, sa, n, &e) == 0);
+    CHECK(frame_tiny_render(r, &t, &c) == 0);
     CHECK(memcmp(a.rgba, c.rgba, 64 * 48 * 4 * sizeof(float)) == 0);
-    CHECK(!why_has(&r, "painted"));
+    CHECK(!why_has(r, "painted"));
     for (uint32_t s = 1; s < n; s += 2)
         for (int q = 0; q < 3; q++)
             sa[3 * s + q] = 20.0f;
-    CHECK(sl_renderer_set_strand_sigma_a(&r, sa, n, &e) == 0);
-    CHECK(frame_tiny_render(&r, &t, &b) == 0);
-    CHECK(r.srbf_used == SL_RENDER_SRBF_TABLE);
-    CHECK(why_has(&r, "painted strands"));
+    CHECK(sl_renderer_set_strand_sigma_a(r, sa, n, &e) == 0);
+    CHECK(frame_tiny_render(r, &t, &b) == 0);
+    CHECK(sl_renderer_srbf_used(r) == SL_RENDER_SRBF_TABLE);
+    CHECK(why_has(r, "painted strands"));
     /* painted rows: fast with sigma_a 20 against the table with 0.3; TT and TRT fall by
      * e^-(several) while the table's own error is a few %: never brighter beyond 1e-6 relative
      * (float rounding of the composite; the bound is in frame_paint_compare) */
-    frame_paint_tally y = frame_paint_compare(&r, &t, &a, &b);
+    frame_paint_tally y = frame_paint_compare(r, &t, &a, &b);
     CHECK_MSG(y.clean > 100 && y.painted_px > 100, "clean %d, painted %d", y.clean, y.painted_px);
     CHECK(y.clean_same);
     CHECK_MSG(y.brighter == 0, "%d painted pixels brighter", y.brighter);
@@ -277,7 +276,7 @@ TEST(frame_table_paint_only_painted_strands) {
     sl_fbuf_free(&a);
     sl_fbuf_free(&b);
     sl_fbuf_free(&c);
-    sl_renderer_free(&r);
+    sl_renderer_free(r);
     frame_tiny_close(&t, &dev);
 }
 
@@ -297,22 +296,22 @@ TEST(frame_table_opencl_equals_c) {
     CHECK(table_dir("cl", dir, sizeof dir) != NULL);
     sl_srbf_ren_params tp;
     small_params(&tp, dir);
-    sl_renderer rc, rcl;
-    init_r(&rc, &dc, SL_RENDER_SRBF_TABLE, 1, &tp);
-    init_r(&rcl, &dcl, SL_RENDER_SRBF_TABLE, 1, &tp);
+    sl_renderer *rc = NULL, *rcl = NULL;
+    rc = init_r(&dc, SL_RENDER_SRBF_TABLE, 1, &tp);
+    rcl = init_r(&dcl, SL_RENDER_SRBF_TABLE, 1, &tp);
     sl_fbuf a, b;
-    CHECK(frame_tiny_render(&rc, &t, &a) == 0);
+    CHECK(frame_tiny_render(rc, &t, &a) == 0);
     unsigned long k0 = sl_cl_kernels_enqueued();
-    CHECK(frame_tiny_render(&rcl, &t, &b) == 0);
+    CHECK(frame_tiny_render(rcl, &t, &b) == 0);
     CHECK_CL_RAN(k0);
-    CHECK(rcl.srbf_used == SL_RENDER_SRBF_TABLE && rcl.ren_mem != NULL);
+    CHECK(sl_renderer_srbf_used(rcl) == SL_RENDER_SRBF_TABLE && rcl->ren_mem != NULL);
     double mx, md = frame_max_diff(&a, &b, &mx);
     CHECK(mx > 0);
     CHECK_MSG(md <= 1e-4 * mx, "max diff %g of %g", md, mx);
     sl_fbuf_free(&a);
     sl_fbuf_free(&b);
-    sl_renderer_free(&rc);
-    sl_renderer_free(&rcl);
+    sl_renderer_free(rc);
+    sl_renderer_free(rcl);
     sl_device_close(&dc);
     sl_device_close(&dcl);
     frame_tiny_free(&t);
@@ -343,12 +342,11 @@ TEST(frame_table_threads_bit_identical) {
         o.quiet = 1;
         o.srbf_method = SL_RENDER_SRBF_TABLE;
         o.table_params = &tp;
-        sl_renderer r;
-        sl_renderer_init(&r, &dev, &o);
-        CHECK(sl_renderer_set_strand_sigma_a(&r, sa, n, &e) == 0);
-        CHECK(frame_tiny_render(&r, &t, &fb[k]) == 0);
-        CHECK(r.srbf_used == SL_RENDER_SRBF_TABLE);
-        sl_renderer_free(&r);
+        sl_renderer *r = sl_renderer_create(&dev, &o);
+        CHECK(sl_renderer_set_strand_sigma_a(r, sa, n, &e) == 0);
+        CHECK(frame_tiny_render(r, &t, &fb[k]) == 0);
+        CHECK(sl_renderer_srbf_used(r) == SL_RENDER_SRBF_TABLE);
+        sl_renderer_free(r);
     }
     CHECK(memcmp(fb[0].rgba, fb[1].rgba, 64 * 48 * 4 * sizeof(float)) == 0);
     CHECK(memcmp(fb[0].rgba, fb[2].rgba, 64 * 48 * 4 * sizeof(float)) == 0);

@@ -19,18 +19,15 @@ int sl_ref_kbuffer_build(const sl_scene *s, const sl_hair *h, const sl_camera *c
     sl_render_opts ro;
     sl_render_opts_default(&ro);
     ro.threads = threads, ro.quiet = 1;
-    sl_renderer r;
-    sl_renderer_init(&r, &dev, &ro);
-    int K = sl_frame_oit_k(s), rc = sl_frame_view(&r, h, cam, K, e);
+    sl_renderer *r = sl_renderer_create(&dev, &ro);
+    int K = sl_frame_oit_k(s), rc = sl_frame_view(r, h, cam, K, e);
     if (rc == 0) {
-        out->w = r.vw, out->h = r.vh, out->K = r.vK;
-        out->kbuf = r.kbuf, out->kcount = r.kcount;
-        r.kbuf = NULL, r.kcount = NULL; /* handed over */
+        sl_renderer_take_kbuffer(r, &out->w, &out->h, &out->K, &out->kbuf, &out->kcount);
         size_t npx = (size_t)out->w * out->h;
         for (size_t p = 0; p < npx; p++)
             out->entries += out->kcount[p];
     }
-    sl_renderer_free(&r);
+    sl_renderer_free(r);
     sl_device_close(&dev);
     return rc;
 }

@@ -870,24 +870,23 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
         if (!warmed[c.opencl]) {
             /* one untimed frame per backend: kernel builds and the SRBF/dual tables' first
              * load (disk-cached) and cold memory are not part of a frame's time */
-            sl_renderer wr;
-            sl_renderer_init(&wr, dev, &ro);
-            int wrc = sl_renderer_frame(&wr, &sc, &h, lobes, &cam, &fb, e);
-            sl_renderer_free(&wr);
+            sl_renderer *wr = sl_renderer_create(dev, &ro);
+            int wrc = sl_renderer_frame(wr, &sc, &h, lobes, &cam, &fb, e);
+            sl_renderer_free(wr);
             if (wrc) goto done;
             sl_fbuf_free(&fb);
         }
         warmed[c.opencl] = 1;
-        sl_renderer r;
-        sl_renderer_init(&r, dev, &ro);
+        sl_renderer *r = sl_renderer_create(dev, &ro);
         double t0 = sl_now();
-        int frc = sl_renderer_frame(&r, &sc, &h, lobes, &cam, &fb, e);
+        int frc = sl_renderer_frame(r, &sc, &h, lobes, &cam, &fb, e);
         double dt = sl_now() - t0;
         run_res *rs = &res[nruns];
         memset(rs, 0, sizeof *rs);
         rs->index = nruns + 1;
-        rs->c = c, rs->time_s = dt, rs->ms_on = r.ms_on, rs->lobes_used = r.lobes_used;
-        sl_renderer_free(&r);
+        rs->c = c, rs->time_s = dt, rs->ms_on = sl_renderer_ms_on(r);
+        rs->lobes_used = sl_renderer_lobes_used(r);
+        sl_renderer_free(r);
         if (frc) goto done;
         measure(&fb, &ref, &ref_frag, s->material.model, rs);
         rs->heat = heat_map(&fb, &ref);

@@ -75,15 +75,15 @@ static int ve_render(int ms_mode, ve_stats *st) {
         sl_lobes_free(&l);
         return -1;
     }
-    sl_renderer r;
+    sl_renderer *r = NULL;
     sl_render_opts o;
     sl_render_opts_default(&o);
     o.quiet = 1;
     o.threads = 2;
-    sl_renderer_init(&r, &dev, &o);
+    r = sl_renderer_create(&dev, &o);
     sl_fbuf fb;
     memset(&fb, 0, sizeof fb);
-    if (sl_renderer_frame(&r, &s, &h, &l, &cam, &fb, &e) == 0) {
+    if (sl_renderer_frame(r, &s, &h, &l, &cam, &fb, &e) == 0) {
         memset(st, 0, sizeof *st);
         for (int i = 0; i < fb.width * fb.height; i++) {
             double a = fb.rgba[4 * i + 3];
@@ -103,7 +103,7 @@ static int ve_render(int ms_mode, ve_stats *st) {
         fprintf(stderr, "volume_energy: %s\n", e.msg);
     }
     sl_fbuf_free(&fb);
-    sl_renderer_free(&r);
+    sl_renderer_free(r);
     sl_device_close(&dev);
     sl_hair_free(&h);
     sl_lobes_free(&l);

@@ -170,11 +170,10 @@ TEST(reffrag_alpha_depth_equal_fast_path) {
     sl_device dev = {0};
     sl_err e;
     CHECK_MSG(sl_device_open("c", &dev, &e) == 0, "%s", e.msg);
-    sl_renderer r;
-    sl_renderer_init(&r, &dev, NULL);
+    sl_renderer *r = sl_renderer_create(&dev, NULL);
     sl_fbuf fb;
-    CHECK(frame_tiny_render(&r, &t, &fb) == 0);
-    sl_renderer_free(&r);
+    CHECK(frame_tiny_render(r, &t, &fb) == 0);
+    sl_renderer_free(r);
     sl_ref_kbuffer kb;
     CHECK_MSG(sl_ref_kbuffer_build(&t.s, &t.h, &t.cam, 2, &kb, &e) == 0, "%s", e.msg);
     slref_rt *rt = NULL;

@@ -1,0 +1,91 @@
+/* shade_pass.c: the frame's lookup and shade passes, run every frame: the shading points of
+ * the view pass at this frame's rate with their transmittance toward each shaded lobe, then
+ * the SRBF response (+ multiple scattering) per point (frame_shade.c). */
+#include "plan/frame_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The shading rate of this frame (r->rate_k) from quality.shading_rate and the view pass. */
+static int shading_rate(const sl_renderer *r, const sl_scene *s) {
+    int rate = r->fw.rate;
+    if (rate >= 0) return rate;
+    /* auto: shading dominates the CPU cost, so shade at strand vertices (interpolated along
+     * the strand) unless segments project longer than quality.auto_fragment_px, where the
+     * linear interpolation would visibly flatten highlights; segments shorter than a pixel
+     * are shaded every k-th vertex, k = floor(2 px / length), so shaded points stay about
+     * 2 px apart on screen (k <= 8) */
+    float L = r->seg_px_median;
+    if (L >= s->auto_fragment_px) return 0;
+    int k = L > 0 ? (int)floorf(2.0f / L) : 8;
+    return k < 1 ? 1 : (k > 8 ? 8 : k);
+}
+
+int sl_pass_lookup(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
+    const sl_hair *h = in->h;
+    sl_frame_work *w = &r->fw;
+    sl_shade_points *pts = &w->pts;
+    sl_shade_map *sm = &w->sm;
+    int nused = w->nused;
+    r->rate_k = shading_rate(r, in->s);
+    sm->strand_of = sl_malloc((h->num_points ? h->num_points : 1) * sizeof *sm->strand_of);
+    for (uint32_t st = 0; st < h->num_strands; st++)
+        for (uint32_t i = h->strand_first[st]; i < h->strand_first[st + 1]; i++)
+            sm->strand_of[i] = st;
+    sl_kbuf_view kb = sl_frame_kbuf(r);
+    sl_shade_points_build(h, &kb, r->rate_k, sm, pts);
+    pts->T = sl_malloc(((size_t)nused * pts->n + 1) * sizeof *pts->T);
+    pts->out = sl_malloc((pts->n * SL_SHADE_FLOATS + 1) * sizeof *pts->out);
+    /* T_j = sum over lobe j's maps of w T (one map, w = 1, unless the lobe is broad) */
+    double *Td = sl_malloc((pts->n + 1) * sizeof *Td);
+    double *Tj = sl_calloc((size_t)nused * pts->n + 1, sizeof *Tj);
+    for (int m = 0; m < r->nlights; m++) {
+        if (sl_shadow_lookup(r->dev, &r->light[m], pts->n, pts->pos, Td, e)) {
+            free(Td);
+            free(Tj);
+            return -1;
+        }
+        double *t = Tj + (size_t)r->light_lobe[m] * pts->n;
+        for (size_t i = 0; i < pts->n; i++)
+            t[i] += r->light_w[m] * Td[i];
+    }
+    for (size_t i = 0; i < (size_t)nused * pts->n; i++)
+        pts->T[i] = (float)Tj[i];
+    free(Td);
+    free(Tj);
+    sl_frame_why(r, "transmittance of %zu shading points toward %d lobes", pts->n, nused);
+    return 0;
+}
+
+int sl_pass_shade(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
+    const sl_scene *s = in->s;
+    const sl_frame_work *w = &r->fw;
+    sl_shade_points *pts = &r->fw.pts;
+    sl_shade_ctx sc = {&s->material,     w->fl,    w->used,  w->nused, w->share,
+                       in->cam,          r->ms_on, &r->ftex, &r->vms,  s->point_threshold,
+                       r->strand_sigma_a};
+    if (sl_frame_shade(r, &sc, pts, e)) return -1;
+    double lobes_eval = 0;
+    for (size_t i = 0; i < pts->n; i++)
+        lobes_eval += pts->out[SL_SHADE_FLOATS * i + 13];
+    char ratebuf[48];
+    if (r->rate_k == 0)
+        snprintf(ratebuf, sizeof ratebuf, "fragment");
+    else
+        snprintf(ratebuf, sizeof ratebuf, "vertex:%d", r->rate_k);
+    sl_frame_why(
+        r,
+        "rate %s (%s; median segment %.2f px): %zu points, %.0f lobe evaluations "
+        "(%.1f per point, quality.point_threshold %.3g)%s, SRBF %s on %s",
+        ratebuf,
+        strcmp(s->shading_rate, "auto") ? "quality.shading_rate" : "auto, quality.auto_fragment_px",
+        r->seg_px_median, pts->n, lobes_eval, pts->n ? lobes_eval / pts->n : 0.0,
+        s->point_threshold, r->strand_sigma_a ? ", per-strand sigma_a" : "",
+        sl_render_method_name(r->srbf_used),
+        sl_frame_srbf_on_device(r) ? "OpenCL"
+        : r->dev->is_opencl ? "C (auto picked a CPU OpenCL device; the C twin is faster there)"
+                            : "C");
+    return 0;
+}

@@ -1,0 +1,50 @@
+/* shade_points.h: the shading points of a frame (fragment rate: one per K-buffer entry; vertex
+ * rate k: every k-th strand vertex, interpolated along the strand) and the map from each
+ * K-buffer entry back to its shading, which the resolve reads. */
+#ifndef SL_SHADE_POINTS_H
+#define SL_SHADE_POINTS_H
+
+#include "io/hair/hair.h"
+#include "kbuffer.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Floats of one shading point's result: R, TT, TRT, MS (rgb each), shadow, lobe count. */
+#define SL_SHADE_FLOATS 14
+
+/* Shading points and what they need. */
+typedef struct sl_shade_points {
+    size_t n;
+    double *pos;      /* 3 n */
+    float *tan;       /* 3 n, unit */
+    uint32_t *strand; /* n: the strand of each point (for per-strand sigma_a, r->strand_sigma_a) */
+    float *T;         /* nlobes x n: transmittance toward each used lobe (1 without a map) */
+    float *out;       /* SL_SHADE_FLOATS n */
+} sl_shade_points;
+
+/* From each K-buffer entry to its shading (point index, or anchor pair + weight). */
+typedef struct sl_shade_map {
+    uint32_t *strand_of; /* per hair point */
+    uint32_t *anchor;    /* per hair point: shading point index, UINT32_MAX if not shaded */
+    uint32_t *entry;     /* fragment rate: per K-buffer slot */
+} sl_shade_map;
+
+/* The K-buffer of a view pass: w x h pixels, K entries each, kcount[px] filled. */
+typedef struct sl_kbuf_view {
+    int w, h, K;
+    const sl_kfrag *kbuf;
+    const uint8_t *kcount;
+} sl_kbuf_view;
+
+/* The shading points of kb at rate k (0 fragment, >= 1 every k-th vertex) into p (pos, tan,
+ * strand, n) and the map m (strand_of, anchor or entry). */
+void sl_shade_points_build(const sl_hair *h, const sl_kbuf_view *kb, int k, sl_shade_map *m,
+                           sl_shade_points *p);
+/* The shade vector (SL_SHADE_FLOATS) of K-buffer entry i of pixel px. */
+void sl_shade_entry(const sl_hair *h, const sl_kbuf_view *kb, int k, const sl_shade_map *m,
+                    const sl_shade_points *p, size_t px, int i, float *v);
+void sl_shade_points_free(sl_shade_points *p);
+void sl_shade_map_free(sl_shade_map *m);
+
+#endif
