@@ -7,13 +7,11 @@
 #include "scene/camera.h"
 #include "cli/cli.h"
 #include "cl/clrt.h"
-#include "lighting/env_lighting.h"
 #include "plan/frame.h"
 #include "io/hair/hair.h"
 #include "io/image/image_write.h"
 #include "scene/scene.h"
-#include "scene/scene_hair.h"
-#include "scene/scene_strands.h"
+#include "scene/scene_inputs.h"
 #include "passes/light/shadow.h"
 #include "srbf_c.h"
 #include "voxel.h"
@@ -239,20 +237,23 @@ int cmd_render(int argc, char **argv) {
     ro.frames = orbit > 0 ? (int)orbit : 1;
 
     sl_err e = {{0}};
-    sl_scene *s = sl_malloc(sizeof *s);
-    sl_hair h = {0};
-    sl_lobes lobes = {0};
+    sl_scene_inputs in = {0};
+    sl_scene_inputs_opts io = {.width = (int)width,
+                               .height = (int)height,
+                               .lobes = 1,
+                               .clamp_nonfinite = clamp_nonfinite,
+                               .strand_sigma_a = 1};
     sl_device dev = {0};
     sl_renderer *r = NULL;
     int rc = 1;
     double t0 = sl_now();
-    if (sl_scene_load(scene_path, s, &e)) goto done;
-    if (width) s->width = (int)width;
-    if (height) s->height = (int)height;
+    /* the scene, then its settings' checks and the device, then the files it names */
+    if (sl_scene_inputs_open(scene_path, &io, &in, &e)) goto done;
+    sl_scene *s = in.scene;
     if (rate) {
         int k;
         if (sl_shading_rate_parse(rate, &k, &e)) {
-            free(s);
+            sl_scene_inputs_free(&in);
             return cli_usage_error("render", "--shading-rate: %s", e.msg);
         }
         snprintf(s->shading_rate, sizeof s->shading_rate, "%s", rate);
@@ -263,27 +264,18 @@ int cmd_render(int argc, char **argv) {
     if (render_check_limits(s, ro.shadow_size, NULL, &e)) goto done;
     if (sl_device_open(device, &dev, &e)) goto done;
     if (render_check_limits(s, ro.shadow_size, &dev, &e)) goto done;
-    if (sl_scene_load_hair(s, &h, &e)) goto done;
-    if (sl_scene_lobes(s, clamp_nonfinite, &lobes, &e)) goto done;
-    sl_lobes_transform(&lobes, s->env_rotation_deg, s->env_intensity);
-    float lo[3], hi[3];
-    sl_hair_bounds(&h, lo, hi);
-    double target[3];
-    for (int k = 0; k < 3; k++)
-        target[k] = s->has_target ? s->target[k] : 0.5 * (lo[k] + hi[k]);
-    sl_camera cam0;
-    sl_camera_setup(&cam0, s->has_eye ? s->eye : NULL, target, s->up, s->fov_deg, s->width,
-                    s->height, lo, hi);
+    if (sl_scene_inputs_finish(&in, &io, &e)) goto done;
+    const sl_hair *h = &in.hair;
+    const sl_lobes *lobes = &in.lobes;
+    const double *target = in.target;
+    const sl_camera cam0 = in.cam;
     const char *exr_path = exr ? exr : (s->out_exr[0] ? s->out_exr : "out/frame.exr");
     const char *png_path = png ? png : s->out_png;
     r = sl_renderer_create(&dev, &ro);
-    { /* material.strand_sigma_a: per-strand absorption (docs/formats.md) */
-        float *ssa = NULL;
-        if (sl_scene_strand_sigma_a(s, &h, &ssa, &e)) goto done;
-        int src = ssa ? sl_renderer_set_strand_sigma_a(r, ssa, h.num_strands, &e) : 0;
-        free(ssa);
-        if (src) goto done;
-    }
+    /* material.strand_sigma_a: per-strand absorption (docs/formats.md) */
+    if (in.strand_sigma_a &&
+        sl_renderer_set_strand_sigma_a(r, in.strand_sigma_a, h->num_strands, &e))
+        goto done;
     for (long f = fa; f < fb; f++) {
         sl_camera cam = cam0;
         char exr_f[4200], png_f[4200] = "";
@@ -297,13 +289,14 @@ int cmd_render(int argc, char **argv) {
                 d[k] = cam0.eye[k] - target[k];
             double eye[3] = {target[0] + ca * d[0] + sa * d[2], target[1] + d[1],
                              target[2] - sa * d[0] + ca * d[2]};
-            sl_camera_setup(&cam, eye, target, s->up, s->fov_deg, s->width, s->height, lo, hi);
+            sl_camera_setup(&cam, eye, target, s->up, s->fov_deg, s->width, s->height, in.lo,
+                            in.hi);
             frame_path(exr_path, (int)f, exr_f, sizeof exr_f);
             if (png_path && png_path[0]) frame_path(png_path, (int)f, png_f, sizeof png_f);
         }
         sl_fbuf fbuf;
         double tf = sl_now();
-        if (sl_renderer_frame(r, s, &h, &lobes, &cam, &fbuf, &e)) goto done;
+        if (sl_renderer_frame(r, s, h, lobes, &cam, &fbuf, &e)) goto done;
         int wrc = write_outputs(&fbuf, aovs, exr_f, png_f, s->exr_float, &e);
         sl_fbuf_free(&fbuf);
         if (wrc) goto done;
@@ -313,7 +306,7 @@ int cmd_render(int argc, char **argv) {
             fflush(stdout);
         }
         sl_note("render: frame %ld: %u strands, %dx%d, %d of %d lobes -> %s%s%s (%.2f s)", f,
-                h.num_strands, s->width, s->height, sl_renderer_lobes_used(r), lobes.count, exr_f,
+                h->num_strands, s->width, s->height, sl_renderer_lobes_used(r), lobes->count, exr_f,
                 png_f[0] ? " + " : "", png_f, sl_now() - tf);
     }
     sl_note("render: done in %.2f s on %s", sl_now() - t0, dev.name);
@@ -321,9 +314,7 @@ int cmd_render(int argc, char **argv) {
 done:
     if (rc) fprintf(stderr, "strandlight: %s\n", e.msg);
     sl_renderer_free(r);
-    sl_lobes_free(&lobes);
-    sl_hair_free(&h);
+    sl_scene_inputs_free(&in);
     sl_device_close(&dev);
-    free(s);
     return rc;
 }

@@ -3,6 +3,7 @@
  * (viewer_ui.cpp) and runs the event loop, or a --script. Rendering runs in the main thread
  * between events: a cheap preview while anything changes, the refined frame once it stops. */
 #include "cli/cli.h"
+#include "scene/scene_inputs.h"
 #include "viewer/viewer.h"
 #include "viewer/viewer_gl.h"
 #include "viewer/viewer_input.h"
@@ -222,10 +223,11 @@ int cmd_view(int argc, char **argv) {
     view_app *a = sl_calloc(1, sizeof *a);
     int rc = 1, have_gl = 0, have_v = 0;
     /* the scene first (its errors beat a missing display), then the window, then the inputs */
-    sl_scene *s = sl_malloc(sizeof *s);
-    int src = sl_scene_load(scene_path, s, &e);
-    int iw = w ? (int)w : s->width, ih = h ? (int)h : s->height;
-    free(s);
+    sl_scene_inputs in;
+    sl_scene_inputs_opts io = {.width = (int)w, .height = (int)h};
+    int src = sl_scene_inputs_open(scene_path, &io, &in, &e);
+    int iw = src ? 0 : in.scene->width, ih = src ? 0 : in.scene->height;
+    sl_scene_inputs_free(&in);
     if (src) goto done;
     if (sl_vgl_open(&a->g, iw, ih, &e)) goto done;
     have_gl = 1;

@@ -7,6 +7,7 @@
 
 #include "lighting/env_lighting.h"
 #include "scene/scene_hair.h"
+#include "scene/scene_inputs.h"
 #include "scene/scene_strands.h"
 
 #include <limits.h>
@@ -77,11 +78,8 @@ static int same_strand_key(const sl_scene *a, const sl_scene *b) {
 void sl_viewer_camera_from_scene(sl_viewer *v) {
     const sl_scene *s = &v->scene;
     double target[3];
-    for (int k = 0; k < 3; k++)
-        target[k] = s->has_target ? s->target[k] : 0.5 * (v->lo[k] + v->hi[k]);
-    sl_camera c;
-    sl_camera_setup(&c, s->has_eye ? s->eye : NULL, target, s->up, s->fov_deg, s->width, s->height,
-                    v->lo, v->hi);
+    sl_camera c; /* framed as `strandlight render` frames it (scene_inputs.h) */
+    sl_scene_camera(s, v->lo, v->hi, s->width, s->height, target, &c);
     for (int k = 0; k < 3; k++) {
         v->eye[k] = v->home_eye[k] = c.eye[k];
         v->target[k] = v->home_target[k] = target[k];
@@ -148,8 +146,7 @@ static int parse_doc(const sl_viewer *v, const cJSON *doc, sl_scene *s, sl_err *
     int rc = sl_scene_parse(text, strlen(text), v->scene_path, s, e);
     cJSON_free(text);
     if (rc) return -1;
-    if (v->size_w > 0) s->width = v->size_w;
-    if (v->size_h > 0) s->height = v->size_h;
+    sl_scene_set_size(s, v->size_w, v->size_h);
     return 0;
 }
 

@@ -2,7 +2,7 @@
 #include "verify/eval/eval_scene.h"
 
 #include "lighting/env_lighting.h"
-#include "scene/scene_hair.h"
+#include "scene/scene_inputs.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -23,10 +23,16 @@ int sl_eval_scene_lobes(const sl_scene *s, size_t n, const double *rows, const l
 int sl_eval_scene_load(const char *path, sl_eval_scene_check check, size_t n, const double *rows,
                        const long *line_no, sl_eval_scene_data *d, sl_err *e) {
     memset(d, 0, sizeof *d);
-    d->scene = sl_malloc(sizeof *d->scene);
-    if (sl_scene_load(path, d->scene, e) || (check && check(d->scene, path, e)) ||
-        sl_eval_scene_lobes(d->scene, n, rows, line_no, &d->lobes, e) ||
-        sl_scene_load_hair(d->scene, &d->hair, e)) {
+    /* the loader of render, with the quantity's check and the lobes (turned as eval turns them,
+     * checked against the rows) between the scene and the hair */
+    sl_scene_inputs in;
+    sl_scene_inputs_opts io = {0};
+    int rc = sl_scene_inputs_open(path, &io, &in, e) || (check && check(in.scene, path, e)) ||
+             sl_eval_scene_lobes(in.scene, n, rows, line_no, &d->lobes, e) ||
+             sl_scene_inputs_finish(&in, &io, e);
+    d->scene = in.scene; /* in holds nothing else: its lobes and strand sigma_a were not asked */
+    d->hair = in.hair;
+    if (rc) {
         sl_eval_scene_free(d);
         return -1;
     }

@@ -13,7 +13,7 @@
 #include "verify/reference/reference_frag.h"
 #include "render_ref.h"
 #include "render_ref_frag.h"
-#include "scene/scene_hair.h"
+#include "scene/scene_inputs.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
@@ -66,18 +66,23 @@ static int prepare(const sl_scene *s, const sl_reference_settings *set, prep *p,
                        "%s: environment.file: the reference needs an environment map (it cuts "
                        "the map into directional lights; lobes alone are not enough)",
                        s->path);
-    if (sl_scene_load_hair(s, &p->hair, e)) return -1;
+    { /* hair and camera through the loader `render` uses: the same framing, the same size
+       * overrides; the hair moves into p */
+        sl_scene_inputs_opts io = {.width = set->width, .height = set->height};
+        sl_scene_inputs in;
+        if (sl_scene_inputs_from_scene(s, &io, &in, e)) {
+            sl_scene_inputs_free(&in);
+            return -1;
+        }
+        p->hair = in.hair;
+        p->cam = in.cam;
+        memset(&in.hair, 0, sizeof in.hair);
+        sl_scene_inputs_free(&in);
+    }
     if (sl_envmap_load(s->env_file, set->clamp_nonfinite, &p->map, e)) {
         prep_free(p);
         return -1;
     }
-    int w = set->width ? set->width : s->width, h = set->height ? set->height : s->height;
-    float lo[3], hi[3];
-    sl_hair_bounds(&p->hair, lo, hi);
-    double target[3];
-    for (int k = 0; k < 3; k++)
-        target[k] = s->has_target ? s->target[k] : 0.5 * (lo[k] + hi[k]);
-    sl_camera_setup(&p->cam, s->has_eye ? s->eye : NULL, target, s->up, s->fov_deg, w, h, lo, hi);
     if (set->ms >= 0)
         p->ms = set->ms;
     else if (s->multiple_scattering == SL_MS_ON)

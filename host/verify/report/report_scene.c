@@ -12,7 +12,7 @@
 #include "io/image/image_write.h"
 #include "verify/reference/reference.h"
 #include "scene/scene.h"
-#include "scene/scene_hair.h"
+#include "scene/scene_inputs.h"
 #include "srbf_c.h"
 
 #include <dirent.h>
@@ -736,8 +736,8 @@ static int get_lobes(const sl_scene *s, int count, lobeset *sets, int *nsets, sl
 
 int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
     int rc = -1;
-    sl_scene *s = sl_malloc(sizeof *s);
-    sl_hair h = {0};
+    sl_scene_inputs in = {0};
+    sl_scene_inputs_opts io = {0}; /* lobes: by count, below (get_lobes) */
     sl_device dev_c = {0}, dev_cl = {0};
     int have_cl = 0, nsets = 0, nruns = 0;
     lobeset sets[MAX_LOBESETS];
@@ -750,7 +750,8 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
     char cl_name[1200] = "not run (--device none)";
     char tmpdir[4400] = "";
 
-    if (sl_scene_load(o->scene, s, e)) goto done;
+    if (sl_scene_inputs_open(o->scene, &io, &in, e)) goto done;
+    sl_scene *s = in.scene;
     if (!s->env_file[0]) {
         sl_fail(e,
                 "%s: the report needs environment.file (the reference cuts the map into "
@@ -781,7 +782,8 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
                                      : SL_REPORT_FULL_FRAG_LIGHTS;
     const char *mode = o->tiny ? (o->quick ? "quick + tiny" : "tiny") : o->quick ? "quick" : "full";
 
-    if (sl_scene_load_hair(s, &h, e)) goto done;
+    if (sl_scene_inputs_finish(&in, &io, e)) goto done; /* hair, camera at w x hgt */
+    const sl_hair *h = &in.hair;
     /* the scene's lobes first: a bad map or lobes file fails before anything is written */
     sl_lobes *base_lobes;
     if (get_lobes(s, s->lobes, sets, &nsets, &base_lobes, e)) goto done;
@@ -842,14 +844,8 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
         }
     }
 
-    /* camera as `strandlight render` frames it */
-    float lo[3], hi[3];
-    sl_hair_bounds(&h, lo, hi);
-    double target[3];
-    for (int k = 0; k < 3; k++)
-        target[k] = s->has_target ? s->target[k] : 0.5 * (lo[k] + hi[k]);
-    sl_camera cam;
-    sl_camera_setup(&cam, s->has_eye ? s->eye : NULL, target, s->up, s->fov_deg, w, hgt, lo, hi);
+    /* camera as `strandlight render` frames it (the same loader) */
+    const sl_camera cam = in.cam;
 
     int ncfg = make_sweep(s, o->quick, o->tiny, have_cl, lobes_fixed, cfgs);
     int warmed[2] = {0, 0};
@@ -871,7 +867,7 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
             /* one untimed frame per backend: kernel builds and the SRBF/dual tables' first
              * load (disk-cached) and cold memory are not part of a frame's time */
             sl_renderer *wr = sl_renderer_create(dev, &ro);
-            int wrc = sl_renderer_frame(wr, &sc, &h, lobes, &cam, &fb, e);
+            int wrc = sl_renderer_frame(wr, &sc, h, lobes, &cam, &fb, e);
             sl_renderer_free(wr);
             if (wrc) goto done;
             sl_fbuf_free(&fb);
@@ -879,7 +875,7 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
         warmed[c.opencl] = 1;
         sl_renderer *r = sl_renderer_create(dev, &ro);
         double t0 = sl_now();
-        int frc = sl_renderer_frame(r, &sc, &h, lobes, &cam, &fb, e);
+        int frc = sl_renderer_frame(r, &sc, h, lobes, &cam, &fb, e);
         double dt = sl_now() - t0;
         run_res *rs = &res[nruns];
         memset(rs, 0, sizeof *rs);
@@ -943,10 +939,9 @@ done:
         free(res[i].heat);
     for (int i = 0; i < nsets; i++)
         sl_lobes_free(&sets[i].l);
-    sl_hair_free(&h);
+    sl_scene_inputs_free(&in);
     sl_device_close(&dev_cl);
     sl_device_close(&dev_c);
     free(res);
-    free(s);
     return rc;
 }

@@ -1,0 +1,68 @@
+/* scene_inputs.c: see scene_inputs.h. */
+#include "scene/scene_inputs.h"
+
+#include "lighting/env_lighting.h"
+#include "scene/scene_hair.h"
+#include "scene/scene_strands.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void sl_scene_camera(const sl_scene *s, const float lo[3], const float hi[3], int width, int height,
+                     double target[3], sl_camera *cam) {
+    for (int k = 0; k < 3; k++)
+        target[k] = s->has_target ? s->target[k] : 0.5 * (lo[k] + hi[k]);
+    sl_camera_setup(cam, s->has_eye ? s->eye : NULL, target, s->up, s->fov_deg, width, height, lo,
+                    hi);
+}
+
+void sl_scene_set_size(sl_scene *s, int width, int height) {
+    if (width > 0) s->width = width;
+    if (height > 0) s->height = height;
+}
+
+int sl_scene_inputs_open(const char *scene_path, const sl_scene_inputs_opts *o, sl_scene_inputs *in,
+                         sl_err *e) {
+    memset(in, 0, sizeof *in);
+    in->scene = sl_malloc(sizeof *in->scene);
+    if (sl_scene_load(scene_path, in->scene, e)) return -1;
+    sl_scene_set_size(in->scene, o->width, o->height);
+    return 0;
+}
+
+int sl_scene_inputs_finish(sl_scene_inputs *in, const sl_scene_inputs_opts *o, sl_err *e) {
+    const sl_scene *s = in->scene;
+    if (sl_scene_load_hair(s, &in->hair, e)) return -1;
+    if (o->lobes) {
+        if (sl_scene_lobes(s, o->clamp_nonfinite, &in->lobes, e)) return -1;
+        sl_lobes_transform(&in->lobes, s->env_rotation_deg, s->env_intensity);
+    }
+    sl_hair_bounds(&in->hair, in->lo, in->hi);
+    sl_scene_camera(s, in->lo, in->hi, s->width, s->height, in->target, &in->cam);
+    if (o->strand_sigma_a && sl_scene_strand_sigma_a(s, &in->hair, &in->strand_sigma_a, e))
+        return -1;
+    return 0;
+}
+
+int sl_scene_inputs_load(const char *scene_path, const sl_scene_inputs_opts *o, sl_scene_inputs *in,
+                         sl_err *e) {
+    if (sl_scene_inputs_open(scene_path, o, in, e)) return -1;
+    return sl_scene_inputs_finish(in, o, e);
+}
+
+int sl_scene_inputs_from_scene(const sl_scene *s, const sl_scene_inputs_opts *o,
+                               sl_scene_inputs *in, sl_err *e) {
+    memset(in, 0, sizeof *in);
+    in->scene = sl_malloc(sizeof *in->scene);
+    *in->scene = *s;
+    sl_scene_set_size(in->scene, o->width, o->height);
+    return sl_scene_inputs_finish(in, o, e);
+}
+
+void sl_scene_inputs_free(sl_scene_inputs *in) {
+    free(in->strand_sigma_a);
+    sl_lobes_free(&in->lobes);
+    sl_hair_free(&in->hair);
+    free(in->scene);
+    memset(in, 0, sizeof *in);
+}
