@@ -4,8 +4,8 @@
 #include "march_c.h"
 
 #include "march.h"
+#include "base/parallel.h"
 
-#include <pthread.h>
 #include <stdlib.h>
 
 /* One thread's share of one lobe: the event probabilities of voxels a0 .. a1 - 1 (step 0), or
@@ -26,33 +26,31 @@ typedef struct mjob {
     size_t a0, a1;
 } mjob;
 
-static void *mjob_run(void *arg) {
-    const mjob *j = arg;
+static void mjob_run(const mjob *j) {
     if (j->step == 0) {
         const float delta = 0.5f * j->h; /* as sl_march_path */
         for (size_t v = j->a0; v < j->a1; v++) {
             const float *vx = j->vox + v * SL_VOX_FIELDS;
             j->ptab[v] = vx[SL_VOX_SIGMA] > 0.0f ? sl_march_event_p(vx, j->w, delta) : 0.0f;
         }
-        return NULL;
+        return;
     }
     for (size_t v = j->a0; v < j->a1; v++)
         sl_march_vertex(j->vox, j->n[0], j->n[1], j->n[2], j->lo, j->h, j->tabs, j->verts + 3 * v,
                         j->w, j->seed, j->vert_ids[v], (sl_uint)j->lobe, j->paths, j->ptab,
                         j->outT + v * SL_MARCH_CH, j->outS + v * SL_MARCH_CH);
-    return NULL;
 }
 
+static void mjob_part(void *arg, size_t begin, size_t end, int part) {
+    (void)part;
+    const mjob *job = arg;
+    for (size_t t = begin; t < end; t++)
+        mjob_run(&job[t]);
+}
+
+/* job[0 .. nt - 1], one a part (sl_parallel_parts): every output has one writer. */
 static void mjobs_run(mjob *job, int nt) {
-    enum { MAXT = 16 };
-    pthread_t tid[MAXT];
-    int started[MAXT] = {0};
-    for (int t = 1; t < nt; t++)
-        started[t] = pthread_create(&tid[t], NULL, mjob_run, &job[t]) == 0;
-    for (int t = 0; t < nt; t++)
-        if (!started[t]) mjob_run(&job[t]);
-    for (int t = 1; t < nt; t++)
-        if (started[t]) pthread_join(tid[t], NULL);
+    sl_parallel_parts(nt, (size_t)nt, mjob_part, job);
 }
 
 /* Lobe by lobe: the lobe's event probability of every voxel (one exp per voxel instead of one per

@@ -6,11 +6,11 @@
 #include "../kernels/splat.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "base/common.h"
+#include "base/parallel.h"
 
 /* A pixel the previous segment of the current strand touched: its running sums (coverage mass
  * M, opacity-weighted mass, depth-weighted mass) and the fragment they became (idx, or NO_FRAG
@@ -156,22 +156,25 @@ void slc_view_segment(const double p0[3], const double p1[3], double hw, float a
 typedef struct kb_job {
     const slc_frag_list *l;
     int w, K;
-    uint32_t pix_lo, pix_hi;
     sl_kfrag *kbuf;
     uint8_t *count;
-    size_t merges;
+    size_t *merges; /* one count per part */
 } kb_job;
 
-static void *kb_thread(void *arg) {
-    kb_job *j = arg;
+/* Rows begin .. end - 1: every fragment of those rows' pixels, in list order. */
+static void kb_part(void *arg, size_t begin, size_t end, int part) {
+    const kb_job *j = arg;
+    const uint32_t pix_lo = (uint32_t)begin * (uint32_t)j->w;
+    const uint32_t pix_hi = (uint32_t)end * (uint32_t)j->w;
+    size_t merges = 0;
     for (size_t i = 0; i < j->l->n; i++) {
         uint32_t p = j->l->pix[i];
-        if (p < j->pix_lo || p >= j->pix_hi) continue;
+        if (p < pix_lo || p >= pix_hi) continue;
         int n = j->count[p];
-        if (n == j->K) j->merges++;
+        if (n == j->K) merges++;
         j->count[p] = (uint8_t)sl_kbuffer_insert(j->kbuf + (size_t)p * j->K, n, j->K, j->l->f[i]);
     }
-    return NULL;
+    j->merges[part] = merges;
 }
 
 size_t slc_kbuffer_build(const slc_frag_list *l, int w, int h, int K, sl_kfrag *kbuf,
@@ -180,21 +183,11 @@ size_t slc_kbuffer_build(const slc_frag_list *l, int w, int h, int K, sl_kfrag *
     if (nthreads < 1) nthreads = 1;
     if (nthreads > MAXT) nthreads = MAXT;
     memset(count, 0, (size_t)w * h);
-    kb_job job[MAXT];
-    pthread_t tid[MAXT];
-    int started[MAXT] = {0};
-    for (int t = 0; t < nthreads; t++) {
-        uint32_t y0 = (uint32_t)((uint64_t)h * t / nthreads),
-                 y1 = (uint32_t)((uint64_t)h * (t + 1) / nthreads);
-        job[t] = (kb_job){l, w, K, y0 * (uint32_t)w, y1 * (uint32_t)w, kbuf, count, 0};
-        started[t] = t > 0 && pthread_create(&tid[t], NULL, kb_thread, &job[t]) == 0;
-    }
-    for (int t = 0; t < nthreads; t++)
-        if (!started[t]) kb_thread(&job[t]);
+    size_t part_merges[MAXT] = {0};
+    kb_job job = {l, w, K, kbuf, count, part_merges};
+    sl_parallel_parts(nthreads, (size_t)h, kb_part, &job);
     size_t merges = 0;
-    for (int t = 0; t < nthreads; t++) {
-        if (started[t]) pthread_join(tid[t], NULL);
-        merges += job[t].merges;
-    }
+    for (int t = 0; t < nthreads; t++)
+        merges += part_merges[t];
     return merges;
 }

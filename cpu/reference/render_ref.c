@@ -7,11 +7,8 @@
 #include "marschner_ref.h"
 
 #include <math.h>
-#include <pthread.h>
-#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 enum { MAX_CROSS = 512 };
 
@@ -250,7 +247,6 @@ typedef struct render_job {
     const slref_render_opts *o;
     int light_split;
     slref_image *img;
-    atomic_int next_row, rows_done;
 } render_job;
 
 static void render_pixel(const render_job *j, int px, int py) {
@@ -302,15 +298,12 @@ static void render_pixel(const render_job *j, int px, int py) {
     j->img->depth[i] = (float)depth;
 }
 
-static void *render_thread(void *arg) {
-    render_job *j = arg;
-    for (;;) {
-        int y = atomic_fetch_add(&j->next_row, 1);
-        if (y >= j->cam->height) return NULL;
+static void render_rows(void *arg, size_t y0, size_t y1, int worker) {
+    (void)worker;
+    const render_job *j = arg;
+    for (size_t y = y0; y < y1; y++)
         for (int x = 0; x < j->cam->width; x++)
-            render_pixel(j, x, y);
-        atomic_fetch_add(&j->rows_done, 1);
-    }
+            render_pixel(j, x, (int)y);
 }
 
 int slref_render(const slref_shading *sh, const sl_camera *cam, const slref_render_opts *o,
@@ -326,9 +319,7 @@ int slref_render_split(const slref_shading *sh, const sl_camera *cam, const slre
                        cam->height, o->aa);
     slref_image_alloc(out, cam->width, cam->height);
     render_job j = {.sh = sh, .cam = cam, .o = o, .light_split = light_split, .img = out};
-    atomic_init(&j.next_row, 0);
-    atomic_init(&j.rows_done, 0);
-    slref_run_rows(render_thread, &j, &j.rows_done, cam->height, o);
+    slref_run_rows(render_rows, &j, cam->height, o);
     return 0;
 }
 
@@ -341,25 +332,10 @@ void slref_image_alloc(slref_image *img, int w, int h) {
     img->mode_rgb = sl_calloc(9 * n, sizeof(float));
 }
 
-void slref_run_rows(void *(*fn)(void *), void *job, atomic_int *rows_done, int rows,
-                    const slref_render_opts *o) {
-    int threads = o->threads < 1 ? 1 : (o->threads > 256 ? 256 : o->threads);
-    pthread_t tid[256];
-    int started = 0;
-    for (int i = 0; i < threads; i++)
-        if (pthread_create(&tid[started], NULL, fn, job) == 0) started++;
-    if (started == 0) {
-        fn(job); /* no thread could start: work here */
-    } else {
-        struct timespec ts = {0, 100 * 1000 * 1000};
-        while (atomic_load(rows_done) < rows) {
-            if (o->progress) o->progress(o->progress_user, (double)atomic_load(rows_done) / rows);
-            nanosleep(&ts, NULL);
-        }
-        for (int i = 0; i < started; i++)
-            pthread_join(tid[i], NULL);
-    }
-    if (o->progress) o->progress(o->progress_user, 1.0);
+void slref_run_rows(sl_parallel_fn fn, void *job, int rows, const slref_render_opts *o) {
+    int threads = o->threads > 256 ? 256 : o->threads;
+    sl_parallel_for_progress(threads, rows > 0 ? (size_t)rows : 0, 1, fn, job, o->progress,
+                             o->progress_user);
 }
 
 void slref_image_free(slref_image *img) {

@@ -15,8 +15,8 @@
 #include "scene/camera.h"
 #include "scene/material.h"
 #include "raytrace_ref.h"
+#include "base/parallel.h"
 
-#include <stdatomic.h>
 #include <stdint.h>
 
 /* Zinke 2008's density factors (forward d_f, backward d_b; "0.7 works well"). No material key
@@ -99,11 +99,10 @@ int slref_render_split(const slref_shading *sh, const sl_camera *cam, const slre
 void slref_image_free(slref_image *img);
 /* Allocates the planes of a w x h image (zeros; depth set by the renderer). */
 void slref_image_alloc(slref_image *img, int w, int h);
-/* Runs fn(job) on o->threads threads (on the calling thread when none starts) and reports
- * *rows_done / rows through o->progress every 0.1 s until every row is done; fn takes rows
- * from the job until none is left and counts each finished row in *rows_done. */
-void slref_run_rows(void *(*fn)(void *), void *job, atomic_int *rows_done, int rows,
-                    const slref_render_opts *o);
+/* Runs fn(job, y0, y1, worker) over rows 0 .. rows - 1, one row at a time, on o->threads threads
+ * (on the calling thread when none starts), reporting the finished fraction through o->progress
+ * every 0.1 s (sl_parallel_for_progress). */
+void slref_run_rows(sl_parallel_fn fn, void *job, int rows, const slref_render_opts *o);
 
 /* The camera ray through pixel position (px, py) (pixel centres at +0.5, camera.h): unit dir. */
 void slref_camera_ray(const sl_camera *cam, double px, double py, double dir[3]);

@@ -3,11 +3,8 @@
 #include "render_ref_frag.h"
 
 #include <math.h>
-#include <pthread.h>
-#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 uint32_t *slref_frag_strand_of(const sl_hair *h) {
     uint32_t *s = sl_malloc((h->num_points ? h->num_points : 1) * sizeof *s);
@@ -34,7 +31,6 @@ typedef struct frag_job {
     const slref_kbuf *kb;
     const double *eye;
     slref_image *img;
-    atomic_int next_row, rows_done;
 } frag_job;
 
 static void frag_pixel(const frag_job *j, size_t px) {
@@ -77,15 +73,12 @@ static void frag_pixel(const frag_job *j, size_t px) {
     j->img->depth[px] = n > 0 ? f[0].z : INFINITY;
 }
 
-static void *frag_thread(void *arg) {
-    frag_job *j = arg;
-    for (;;) {
-        int y = atomic_fetch_add(&j->next_row, 1);
-        if (y >= j->kb->h) return NULL;
+static void frag_rows(void *arg, size_t y0, size_t y1, int worker) {
+    (void)worker;
+    const frag_job *j = arg;
+    for (size_t y = y0; y < y1; y++)
         for (int x = 0; x < j->kb->w; x++)
-            frag_pixel(j, (size_t)y * j->kb->w + x);
-        atomic_fetch_add(&j->rows_done, 1);
-    }
+            frag_pixel(j, y * j->kb->w + x);
 }
 
 int slref_render_frags(const slref_shading *sh, const sl_hair *h, const slref_kbuf *kb,
@@ -97,9 +90,7 @@ int slref_render_frags(const slref_shading *sh, const sl_hair *h, const slref_kb
     slref_image_alloc(out, kb->w, kb->h);
     uint32_t *strand_of = slref_frag_strand_of(h);
     frag_job j = {.sh = sh, .h = h, .strand_of = strand_of, .kb = kb, .eye = eye, .img = out};
-    atomic_init(&j.next_row, 0);
-    atomic_init(&j.rows_done, 0);
-    slref_run_rows(frag_thread, &j, &j.rows_done, kb->h, o);
+    slref_run_rows(frag_rows, &j, kb->h, o);
     free(strand_of);
     return 0;
 }

@@ -10,9 +10,9 @@
 #include "dual_ref.h"
 #include "marschner_ref.h"
 #include "render_ref.h"
+#include "base/parallel.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 
 #define NTD 25
@@ -39,8 +39,6 @@ static double td_index(double td) {
 typedef struct build_job {
     const sl_material *m;
     slref_ms_tables *t;
-    int next; /* (ch, k) row handed out under the lock */
-    pthread_mutex_t lock;
 } build_job;
 
 static void build_row(const sl_material *m, slref_ms_tables *t, int ch, int k) {
@@ -70,15 +68,12 @@ static void build_row(const sl_material *m, slref_ms_tables *t, int ch, int k) {
     }
 }
 
-static void *build_thread(void *arg) {
-    build_job *j = arg;
-    for (;;) {
-        pthread_mutex_lock(&j->lock);
-        int r = j->next++;
-        pthread_mutex_unlock(&j->lock);
-        if (r >= j->t->nch * NTD) return NULL;
-        build_row(j->m, j->t, r / NTD, r % NTD);
-    }
+/* Rows r = ch * NTD + k, each written by the one worker that takes it. */
+static void build_rows(void *arg, size_t begin, size_t end, int worker) {
+    (void)worker;
+    const build_job *j = arg;
+    for (size_t r = begin; r < end; r++)
+        build_row(j->m, j->t, (int)r / NTD, (int)r % NTD);
 }
 
 int slref_ms_tables_build(const sl_material *m, int threads, slref_ms_tables **out, sl_err *e) {
@@ -88,18 +83,9 @@ int slref_ms_tables_build(const sl_material *m, int threads, slref_ms_tables **o
                           "(dual-scattering terms: docs/dual.md)");
     slref_ms_tables *t = sl_calloc(1, sizeof *t);
     t->nch = m->sigma_a_rgb ? 3 : 1;
-    build_job j = {.m = m, .t = t, .next = 0};
-    pthread_mutex_init(&j.lock, NULL);
-    if (threads < 1) threads = 1;
+    build_job j = {.m = m, .t = t};
     if (threads > 64) threads = 64;
-    pthread_t tid[64];
-    int started = 0;
-    for (int i = 1; i < threads; i++)
-        if (pthread_create(&tid[started], NULL, build_thread, &j) == 0) started++;
-    build_thread(&j);
-    for (int i = 0; i < started; i++)
-        pthread_join(tid[i], NULL);
-    pthread_mutex_destroy(&j.lock);
+    sl_parallel_for(threads, (size_t)t->nch * NTD, 1, build_rows, &j);
     *out = t;
     return 0;
 }

@@ -24,9 +24,9 @@ int efl_pyramid(const sl_envmap *map, int min_h, efl_level **levels);
 void efl_level_free(efl_level *lv);
 void efl_pixel_dir(const efl_level *lv, int x, int y, double d[3]);
 
-/* Runs fn(ctx, b) for b in [0, nblocks): block b on thread b % threads. Callers give each block
- * its own output slot and reduce the slots in block order, so results never depend on the
- * number of threads or on timing. */
+/* Runs fn(ctx, b) for b in [0, nblocks) on up to `threads` (at most 16) workers, each taking the
+ * next block (sl_parallel_for). Callers give each block its own output slot and reduce the slots
+ * in block order, so results never depend on the number of threads or on timing. */
 void efl_parallel(int threads, int nblocks, void (*fn)(void *ctx, int block), void *ctx);
 
 /* Exponent cut-off: a lobe's contribution below exp(-EFL_CUT) of its peak is dropped. */

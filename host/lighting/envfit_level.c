@@ -1,9 +1,11 @@
 /* envfit_level.c: the solid-angle-weighted pyramid, lobe supports on the lat-long grid, the
- * fixed-order thread helper and the tangent basis used by the fitter (envfit_internal.h). */
+ * block fan-out (over base/parallel.h) and the tangent basis used by the fitter
+ * (envfit_internal.h). */
 #include "lighting/envfit_internal.h"
 
+#include "base/parallel.h"
+
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -101,39 +103,25 @@ int efl_pyramid(const sl_envmap *map, int min_h, efl_level **levels) {
     return cap;
 }
 
-typedef struct par_job {
-    int threads, nblocks, tid;
+/* The fitter's block callbacks take one block at a time; its sums are per block and reduced in
+ * block order by the callers, so any worker may take any block. */
+typedef struct par_blocks {
     void (*fn)(void *, int);
     void *ctx;
-} par_job;
+} par_blocks;
 
-static void *par_worker(void *arg) {
-    par_job *j = arg;
-    for (int b = j->tid; b < j->nblocks; b += j->threads)
-        j->fn(j->ctx, b);
-    return NULL;
+static void par_run(void *arg, size_t begin, size_t end, int worker) {
+    (void)worker;
+    const par_blocks *pb = arg;
+    for (size_t b = begin; b < end; b++)
+        pb->fn(pb->ctx, (int)b);
 }
 
 void efl_parallel(int threads, int nblocks, void (*fn)(void *ctx, int block), void *ctx) {
     if (nblocks <= 0) return;
-    if (threads < 1) threads = 1;
     if (threads > 16) threads = 16;
-    if (threads > nblocks) threads = nblocks;
-    pthread_t th[16];
-    par_job jobs[16];
-    int started = 0;
-    for (int t = 0; t < threads; t++)
-        jobs[t] = (par_job){threads, nblocks, t, fn, ctx};
-    for (int t = 1; t < threads; t++) {
-        if (pthread_create(&th[t], NULL, par_worker, &jobs[t]) != 0) break;
-        started = t;
-    }
-    /* Blocks of threads that could not be started run here: the partition stays fixed. */
-    par_worker(&jobs[0]);
-    for (int t = started + 1; t < threads; t++)
-        par_worker(&jobs[t]);
-    for (int t = 1; t <= started; t++)
-        pthread_join(th[t], NULL);
+    par_blocks pb = {fn, ctx};
+    sl_parallel_for(threads, (size_t)nblocks, 1, par_run, &pb);
 }
 
 void efl_row_span(const efl_level *lv, int y, const double mu[3], double a, double cut, int *x0,

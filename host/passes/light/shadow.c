@@ -2,6 +2,8 @@
  * stochastic simplification), and the raster + tables + lookup steps on OpenCL or the C twins. */
 #include "passes/light/shadow.h"
 
+#include "base/parallel.h"
+
 #include "../cpu/dodm.h"
 #include "../cpu/raster.h"
 #include "../kernels/dodm.h"
@@ -10,7 +12,6 @@
 #include "passes/light/raster_cl.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -360,8 +361,7 @@ typedef struct rjob {
     uint64_t *bins;     /* step 2 output: K planes */
 } rjob;
 
-static void *rjob_run(void *arg) {
-    rjob *j = arg;
+static void rjob_run(const rjob *j) {
     const float *r = j->rec + j->s0 * SL_RASTER_REC;
     if (j->step == 0) {
         for (size_t s = j->s0; s < j->s1; s++)
@@ -372,20 +372,19 @@ static void *rjob_run(void *arg) {
     } else {
         slc_raster_layers(r, j->s1 - j->s0, j->w, j->hh, j->K, j->d, j->z0, j->bins);
     }
-    return NULL;
 }
 
-/* Runs job[0 .. nt - 1], job 0 on the calling thread (a thread that cannot start runs there
- * too: the result does not depend on where a job runs). */
+static void rjob_part(void *arg, size_t begin, size_t end, int part) {
+    (void)part;
+    const rjob *job = arg;
+    for (size_t t = begin; t < end; t++)
+        rjob_run(&job[t]);
+}
+
+/* Runs job[0 .. nt - 1], one a part (sl_parallel_parts), job 0 on the calling thread: the
+ * result does not depend on where a job runs. */
 static void rjobs_run(rjob *job, int nt) {
-    pthread_t tid[SL_SHADOW_MAX_THREADS];
-    int started[SL_SHADOW_MAX_THREADS] = {0};
-    for (int t = 1; t < nt; t++)
-        started[t] = pthread_create(&tid[t], NULL, rjob_run, &job[t]) == 0;
-    for (int t = 0; t < nt; t++)
-        if (!started[t]) rjob_run(&job[t]);
-    for (int t = 1; t < nt; t++)
-        if (started[t]) pthread_join(tid[t], NULL);
+    sl_parallel_parts(nt, (size_t)nt, rjob_part, job);
 }
 
 /* The C twin of build_cl: the same records (sl_raster_project_seg), then the passes, one lobe
@@ -627,20 +626,19 @@ int sl_shadow_build(sl_device *dev, const sl_hair *h, const double dir[3], doubl
     return rc;
 }
 
-/* One thread's points of a C-path lookup. */
+/* A C-path lookup: points begin .. end - 1 are one part. */
 typedef struct ljob {
     const sl_dodm *m;
     const float *pts;
-    size_t n;
     float *t;
 } ljob;
 
-static void *ljob_run(void *arg) {
+static void ljob_run(void *arg, size_t begin, size_t end, int part) {
+    (void)part;
     const ljob *j = arg;
     const sl_dodm *m = j->m;
     slc_dodm_lookup(m->z0bits, m->sat, m->view.w, m->view.h, m->K, m->d, m->rfac, m->inv_scale,
-                    j->pts, j->n, j->t);
-    return NULL;
+                    j->pts + 3 * begin, end - begin, j->t + begin);
 }
 
 /* The C lookup, in threads over contiguous point ranges when there are enough points (every
@@ -650,18 +648,8 @@ static void lookup_c(const sl_dodm *m, const float *pts, size_t n, float *t) {
     long nc = sysconf(_SC_NPROCESSORS_ONLN);
     int nt = nc < 1 ? 1 : (nc > SL_SHADOW_MAX_THREADS ? SL_SHADOW_MAX_THREADS : (int)nc);
     if ((size_t)nt > n / PER_THREAD + 1) nt = (int)(n / PER_THREAD + 1);
-    ljob job[SL_SHADOW_MAX_THREADS];
-    pthread_t tid[SL_SHADOW_MAX_THREADS];
-    int started[SL_SHADOW_MAX_THREADS] = {0};
-    for (int i = 0; i < nt; i++) {
-        size_t a = n * i / nt, b = n * (i + 1) / nt;
-        job[i] = (ljob){m, pts + 3 * a, b - a, t + a};
-        started[i] = i > 0 && pthread_create(&tid[i], NULL, ljob_run, &job[i]) == 0;
-    }
-    for (int i = 0; i < nt; i++)
-        if (!started[i]) ljob_run(&job[i]);
-    for (int i = 1; i < nt; i++)
-        if (started[i]) pthread_join(tid[i], NULL);
+    ljob job = {m, pts, t};
+    sl_parallel_parts(nt, n, ljob_run, &job);
 }
 
 int sl_shadow_lookup(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz, double *T,

@@ -13,6 +13,7 @@
  * the closed form. C path: each thread shades a contiguous range of points end to end (rows,
  * response, multiple scattering, accumulation). OpenCL: blocks in turn, one launch per block. */
 #include "plan/frame_internal.h"
+#include "base/parallel.h"
 #include "srbf_c.h"
 #include "srbf_deon_c.h"
 #include "passes/shade/srbf_deon_cl.h"
@@ -20,7 +21,6 @@
 #include "passes/shade/srbf_ren.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -285,23 +285,24 @@ static void accumulate(const shade_common *sc, rowbuf *b) {
  * are row-independent), so the frame does not depend on the thread count. */
 typedef struct shade_job {
     const shade_common *sc;
-    size_t i0, i1;
+    size_t i0; /* the first point of the range split into parts */
 } shade_job;
 
-static void *shade_thread(void *arg) {
-    shade_job *j = arg;
+static void shade_part(void *arg, size_t begin, size_t end, int part) {
+    (void)part;
+    const shade_job *j = arg;
     const shade_common *sc = j->sc;
+    const size_t i1 = j->i0 + end;
     int L = sc->c->nused;
     rowbuf b;
     rowbuf_init(&b, (size_t)CHUNK_POINTS * (L ? L : 1), sc->table);
-    for (size_t p0 = j->i0; p0 < j->i1; p0 += CHUNK_POINTS) {
-        size_t p1 = p0 + CHUNK_POINTS < j->i1 ? p0 + CHUNK_POINTS : j->i1;
+    for (size_t p0 = j->i0 + begin; p0 < i1; p0 += CHUNK_POINTS) {
+        size_t p1 = p0 + CHUNK_POINTS < i1 ? p0 + CHUNK_POINTS : i1;
         build_rows(sc, p0, p1, &b);
         eval_rows_c(sc, &b);
         accumulate(sc, &b);
     }
     rowbuf_free(&b);
-    return NULL;
 }
 
 static void shade_c(const sl_renderer *r, const shade_common *sc, size_t i0, size_t i1) {
@@ -309,18 +310,8 @@ static void shade_c(const sl_renderer *r, const shade_common *sc, size_t i0, siz
     int nt = sl_frame_threads(r);
     if (nt > MAXT) nt = MAXT;
     if (i1 - i0 < 64) nt = 1;
-    shade_job job[MAXT];
-    pthread_t tid[MAXT];
-    int started[MAXT] = {0};
-    size_t n = i1 - i0;
-    for (int t = 0; t < nt; t++) {
-        job[t] = (shade_job){sc, i0 + n * t / nt, i0 + n * (t + 1) / nt};
-        started[t] = t > 0 && pthread_create(&tid[t], NULL, shade_thread, &job[t]) == 0;
-    }
-    for (int t = 0; t < nt; t++)
-        if (!started[t]) shade_thread(&job[t]);
-    for (int t = 1; t < nt; t++)
-        if (started[t]) pthread_join(tid[t], NULL);
+    shade_job job = {sc, i0};
+    sl_parallel_parts(nt, i1 - i0, shade_part, &job);
 }
 
 int sl_frame_shade(sl_renderer *r, const sl_shade_ctx *c, sl_shade_points *p, sl_err *e) {

@@ -8,13 +8,14 @@
  * progress bar. */
 #include "passes/shade/srbf_ren.h"
 
+#include "base/parallel.h"
+
 #include "srbf_c.h"
 #include "passes/shade/srbf_cl.h"
 #include "srbf_fast.h"
 #include "passes/shade/srbf_tables.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -141,37 +142,25 @@ static double node_row(const sl_srbf_ren_dims *d, const float *T, int k, size_t 
 typedef struct fast_job {
     const sl_fiber_params *fp;
     const sl_srbf_tables *ft;
-    size_t n;
     const float *in;
     float *out;
 } fast_job;
 
-static void *fast_thread(void *arg) {
-    fast_job *j = arg;
-    slc_srbf_batch(j->fp, j->ft->C, j->ft->H, SL_SRBF_METHOD_FAST, 4, j->n, j->in, j->out);
-    return NULL;
+static void fast_part(void *arg, size_t begin, size_t end, int part) {
+    (void)part;
+    const fast_job *j = arg;
+    slc_srbf_batch(j->fp, j->ft->C, j->ft->H, SL_SRBF_METHOD_FAST, 4, end - begin,
+                   j->in + 5 * begin, j->out + 4 * begin);
 }
 
+/* Contiguous parts of the rows, one a thread: every row's output depends on that row alone
+ * (slc_srbf_batch), so any split gives the same table. */
 static void fast_c(const sl_fiber_params *fp, const sl_srbf_tables *ft, int threads, size_t n,
                    const float *in, float *out) {
     enum { MAXT = 64 };
-    pthread_t th[MAXT];
-    fast_job jobs[MAXT];
-    int started[MAXT] = {0};
     if (threads > MAXT) threads = MAXT;
-    if (threads < 1) threads = 1;
-    size_t per = (n + (size_t)threads - 1) / (size_t)threads;
-    for (int i = 0; i < threads; i++) {
-        size_t a = (size_t)i * per, b = a + per > n ? n : a + per;
-        jobs[i] = (fast_job){fp, ft, b > a ? b - a : 0, in + 5 * a, out + 4 * a};
-        if (jobs[i].n == 0) continue;
-        if (i + 1 < threads && pthread_create(&th[i], NULL, fast_thread, &jobs[i]) == 0)
-            started[i] = 1;
-        else
-            fast_thread(&jobs[i]); /* the last slice (or a thread that would not start) here */
-    }
-    for (int i = 0; i < threads; i++)
-        if (started[i]) pthread_join(th[i], NULL);
+    fast_job job = {fp, ft, in, out};
+    sl_parallel_parts(threads, n, fast_part, &job);
 }
 
 /* Evaluates n rows of `fast` for fp on dev (OpenCL, falling back to C where dev may) or C. */

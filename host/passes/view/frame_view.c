@@ -4,27 +4,28 @@
  * the K-buffer (C twin in threads over row bands, or kernels/kbuffer.cl through host/passes/view/view_cl.h,
  * bit-identical), so the result is independent of the thread count and the backend. */
 #include "plan/frame_internal.h"
+#include "base/parallel.h"
 #include "view.h"
 #include "passes/view/view_cl.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
 typedef struct vjob {
     const sl_hair *h;
     const sl_camera *cam;
-    uint32_t s0, s1;
-    slc_frag_list out;
+    slc_frag_list *out; /* one list per part, concatenated in part order */
     float *seglen; /* projected length per segment (NAN when not drawn), indexed by point */
 } vjob;
 
-static void *view_thread(void *arg) {
-    vjob *j = arg;
+/* Strands begin .. end - 1 into part's own fragment list. */
+static void view_part(void *arg, size_t begin, size_t end, int part) {
+    const vjob *j = arg;
     const sl_hair *h = j->h;
     const sl_camera *cam = j->cam;
-    for (uint32_t s = j->s0; s < j->s1; s++) {
+    slc_frag_list *out = &j->out[part];
+    for (uint32_t s = (uint32_t)begin; s < (uint32_t)end; s++) {
         uint32_t a = h->strand_first[s], b = h->strand_first[s + 1];
         for (uint32_t i = a; i + 1 < b; i++) {
             double q0[3], q1[3], p0[3], p1[3];
@@ -41,10 +42,9 @@ static void *view_thread(void *arg) {
             a0 = a0 < 0 ? 0 : (a0 > 1 ? 1 : a0);
             a1 = a1 < 0 ? 0 : (a1 > 1 ? 1 : a1);
             j->seglen[i] = (float)hypot(p1[0] - p0[0], p1[1] - p0[1]);
-            slc_view_segment(p0, p1, hw, a0, a1, i, cam->width, cam->height, &j->out);
+            slc_view_segment(p0, p1, hw, a0, a1, i, cam->width, cam->height, out);
         }
     }
-    return NULL;
 }
 
 static int cmp_float(const void *a, const void *b) {
@@ -61,36 +61,25 @@ int sl_frame_view(sl_renderer *r, const sl_hair *h, const sl_camera *cam, int K,
     float *seglen = sl_malloc((h->num_points ? h->num_points : 1) * sizeof *seglen);
     for (uint32_t i = 0; i < h->num_points; i++)
         seglen[i] = NAN;
-    vjob job[MAXT];
-    pthread_t tid[MAXT];
-    int started[MAXT] = {0};
-    for (int t = 0; t < nt; t++) {
-        job[t] = (vjob){h,
-                        cam,
-                        (uint32_t)((uint64_t)h->num_strands * t / nt),
-                        (uint32_t)((uint64_t)h->num_strands * (t + 1) / nt),
-                        {0},
-                        seglen};
-        started[t] = t > 0 && pthread_create(&tid[t], NULL, view_thread, &job[t]) == 0;
-    }
-    for (int t = 0; t < nt; t++)
-        if (!started[t]) view_thread(&job[t]);
-    for (int t = 1; t < nt; t++)
-        if (started[t]) pthread_join(tid[t], NULL);
+    slc_frag_list out[MAXT] = {{0}};
+    vjob job = {h, cam, out, seglen};
+    /* parts are whole strands, and a run of fragments (cpu/view.c) never continues across a
+     * strand, so the part lists concatenated in part order are the one-thread list */
+    sl_parallel_parts(nt, h->num_strands, view_part, &job);
     /* concatenate in segment order */
-    slc_frag_list all = job[0].out;
+    slc_frag_list all = out[0];
     for (int t = 1; t < nt; t++) {
-        if (job[t].out.n) {
-            if (all.n + job[t].out.n > all.cap) {
-                all.cap = all.n + job[t].out.n;
+        if (out[t].n) {
+            if (all.n + out[t].n > all.cap) {
+                all.cap = all.n + out[t].n;
                 all.f = sl_realloc(all.f, all.cap * sizeof *all.f);
                 all.pix = sl_realloc(all.pix, all.cap * sizeof *all.pix);
             }
-            memcpy(all.f + all.n, job[t].out.f, job[t].out.n * sizeof *all.f);
-            memcpy(all.pix + all.n, job[t].out.pix, job[t].out.n * sizeof *all.pix);
-            all.n += job[t].out.n;
+            memcpy(all.f + all.n, out[t].f, out[t].n * sizeof *all.f);
+            memcpy(all.pix + all.n, out[t].pix, out[t].n * sizeof *all.pix);
+            all.n += out[t].n;
         }
-        slc_frag_list_free(&job[t].out);
+        slc_frag_list_free(&out[t]);
     }
     free(r->kbuf);
     free(r->kcount);

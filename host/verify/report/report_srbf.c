@@ -3,6 +3,7 @@
 
 #include "cl/clrt.h"
 #include "base/csv.h"
+#include "base/parallel.h"
 #include "srbf_c.h"
 #include "passes/shade/srbf_cl.h"
 #include "srbf_ref.h"
@@ -11,7 +12,6 @@
 #include "srbf_xu.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -299,8 +299,7 @@ typedef struct xjob {
     long rows;
 } xjob;
 
-static void *xjob_run(void *arg) {
-    xjob *j = arg;
+static void xjob_time(xjob *j) {
     const run_ctx *r = j->r;
     double t0 = sl_now();
     j->rows = 0;
@@ -317,7 +316,13 @@ static void *xjob_run(void *arg) {
         }
         j->rows += r->n;
     }
-    return NULL;
+}
+
+/* Jobs begin .. end - 1 (one a part): each repeats the whole sample for min_time. */
+static void xjob_run(void *arg, size_t begin, size_t end, int part) {
+    (void)part;
+    for (size_t k = begin; k < end; k++)
+        xjob_time((xjob *)arg + k);
 }
 
 /* rows/s (wall) and rows per CPU second over nt threads. */
@@ -325,17 +330,10 @@ static void xrates(const run_ctx *r, int rgb, int nt, float *sig, double min_tim
                    double *per_core) {
     enum { MAXT = 2 };
     xjob j[MAXT];
-    pthread_t tid[MAXT];
-    int started[MAXT] = {0};
     double t0 = sl_now(), c0 = cpu_now();
-    for (int k = 0; k < nt; k++) {
-        j[k] = (xjob){r, rgb, sig, sl_malloc((size_t)r->n * 9 * sizeof(float)), min_time, 0};
-        started[k] = k > 0 && pthread_create(&tid[k], NULL, xjob_run, &j[k]) == 0;
-    }
     for (int k = 0; k < nt; k++)
-        if (!started[k]) xjob_run(&j[k]);
-    for (int k = 1; k < nt; k++)
-        if (started[k]) pthread_join(tid[k], NULL);
+        j[k] = (xjob){r, rgb, sig, sl_malloc((size_t)r->n * 9 * sizeof(float)), min_time, 0};
+    sl_parallel_parts(nt, (size_t)nt, xjob_run, j);
     double el = sl_now() - t0, cpu = cpu_now() - c0;
     long rows = 0;
     for (int k = 0; k < nt; k++) {
