@@ -168,6 +168,10 @@ int sl_renderer_srbf_used(const sl_renderer *r) {
     return r->srbf_used;
 }
 
+double sl_renderer_frame_seconds(const sl_renderer *r) {
+    return r->total_s;
+}
+
 int sl_renderer_kbuffer(const sl_renderer *r, int *w, int *h, int *K, const sl_kfrag **kbuf,
                         const uint8_t **kcount) {
     if (!r->kbuf) return -1;

@@ -135,6 +135,8 @@ int sl_renderer_lobes_used(const sl_renderer *r);
 int sl_renderer_ms_on(const sl_renderer *r);
 int sl_renderer_shading_rate(const sl_renderer *r);
 int sl_renderer_srbf_used(const sl_renderer *r);
+/* The last frame's wall time in seconds: every pass and the planner (explain's "total"). */
+double sl_renderer_frame_seconds(const sl_renderer *r);
 /* The last view pass's K-buffer (w x h pixels, K entries each, kcount[px] of them filled),
  * owned by r. take: the same, handed over to the caller (free both with free()); the next
  * frame re-runs the view pass. Return 0, or -1 when there is none. */
