@@ -1,7 +1,7 @@
 /* cmd_fit.c: `strandlight fit`: SRBF lobes for an environment map (envfit.h), written as the
  * lobes JSON of numerics.md sec. 4 with a "fit" record (map hash, settings, errors, time). */
 #include "cli/cli.h"
-#include "lighting/env_lighting.h"
+#include "scene/env_lighting.h"
 #include "lighting/envfit.h"
 
 #include <cjson/cJSON.h>

@@ -1,7 +1,7 @@
 /* scene_inputs.c: see scene_inputs.h. */
 #include "scene/scene_inputs.h"
 
-#include "lighting/env_lighting.h"
+#include "scene/env_lighting.h"
 #include "scene/scene_hair.h"
 #include "scene/scene_strands.h"
 

@@ -5,7 +5,7 @@
  * per-strand absorption (material.strand_sigma_a, host/scene/scene_strands.h). */
 #include "viewer/viewer.h"
 
-#include "lighting/env_lighting.h"
+#include "scene/env_lighting.h"
 #include "scene/scene_hair.h"
 #include "scene/scene_inputs.h"
 #include "scene/scene_strands.h"

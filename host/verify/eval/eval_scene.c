@@ -1,7 +1,7 @@
 /* eval_scene.c: see eval_scene.h. */
 #include "verify/eval/eval_scene.h"
 
-#include "lighting/env_lighting.h"
+#include "scene/env_lighting.h"
 #include "scene/scene_inputs.h"
 
 #include <stdlib.h>

@@ -6,7 +6,7 @@
 
 #include "scene/camera.h"
 #include "cl/clrt.h"
-#include "lighting/env_lighting.h"
+#include "scene/env_lighting.h"
 #include "plan/frame.h"
 #include "io/hair/hair.h"
 #include "io/image/image_write.h"

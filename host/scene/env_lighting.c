@@ -1,5 +1,5 @@
 /* env_lighting.c: see env_lighting.h. */
-#include "lighting/env_lighting.h"
+#include "scene/env_lighting.h"
 
 #include "cl/clrt.h"
 
