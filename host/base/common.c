@@ -151,8 +151,8 @@ int sl_read_file(const char *path, unsigned char **data, size_t *size, size_t ma
 }
 
 void sl_temp_name(const char *path, char *tmp, size_t tmp_size) {
-    static unsigned counter;
-    snprintf(tmp, tmp_size, "%s.tmp%ld.%u", path, (long)getpid(), counter++);
+    static atomic_uint counter; /* threads writing cache entries at once get distinct names */
+    snprintf(tmp, tmp_size, "%s.tmp%ld.%u", path, (long)getpid(), atomic_fetch_add(&counter, 1));
     /* Remembered so that an out-of-memory exit can remove it (oom above). */
     unsigned slot = atomic_fetch_add(&temp_ring_next, 1) % SL_TEMP_RING;
     snprintf(temp_ring[slot], sizeof temp_ring[slot], "%s", tmp);

@@ -18,6 +18,7 @@
 #define SL_CLRT_H
 
 #include "base/common.h"
+#include "base/disk_cache.h"
 
 #include <CL/cl.h>
 
@@ -184,9 +185,7 @@ void sl_cl_device_label(const sl_cl_devinfo *d, char *out, size_t out_size);
 /* Kernel directory: env STRANDLIGHT_KERNELS if set (must be a directory), else
  * <directory of /proc/self/exe>/../kernels if it exists, else the compiled-in SL_KERNEL_DIR. */
 int sl_kernel_dir_find(char *out, size_t out_size, sl_err *e);
-/* Disk cache directory: $SL_CACHE_DIR, else $XDG_CACHE_HOME/strandlight, else
- * ~/.cache/strandlight; 0 when there is none (SL_CACHE_DIR=off or no HOME). */
-int sl_cache_dir_find(char *out, size_t out_size);
+/* The disk cache directory (sl_cache_dir_find) and its entries: base/disk_cache.h. */
 
 /* What a program build needs to know about the device (for the cache key). */
 typedef struct sl_cl_build_target {

@@ -1,11 +1,11 @@
 /* clrt_cache.c: where kernels live, and building OpenCL programs through an on-disk binary
  * cache (see clrt.h and docs/opencl.md).
  *
- * Cache entry: <cache dir>/<stem>-<32 hex>.bin, keyed by a hash of the .cl source, every
+ * Cache entry: <cache dir>/<stem>-<32 hex>-v1.2.bin, keyed by a hash of the .cl source, every
  * kernels/ *.h and *.inc (name + content), device name, driver version, platform name and version
- * and the full build options. File layout: "SLCLBIN1", key (2 x u64), binary size (u64),
- * FNV-1a of the binary (u64), binary. Anything that does not check out (short, wrong key or
- * checksum, rejected by the driver) is ignored, rebuilt from source and rewritten atomically. */
+ * and the full build options. The file is a base/disk_cache.h entry (key and integrity hash in
+ * its header) holding the driver's binary. Anything that does not check out (short, wrong key or
+ * hash, rejected by the driver) is ignored, rebuilt from source and rewritten atomically. */
 #include "cl/clrt.h"
 
 #include <dirent.h>
@@ -18,7 +18,6 @@
 
 #define SL_MAX_KERNEL_SOURCE (16u << 20)
 #define SL_MAX_CACHE_ENTRY (256u << 20)
-static const char cache_magic[8] = {'S', 'L', 'C', 'L', 'B', 'I', 'N', '1'};
 
 static int is_dir(const char *p) {
     struct stat st;
@@ -62,31 +61,10 @@ int sl_kernel_dir_find(char *out, size_t out_size, sl_err *e) {
 #endif
 }
 
-int sl_cache_dir_find(char *out, size_t out_size) {
-    const char *v = getenv("SL_CACHE_DIR");
-    if (v && *v) {
-        if (strcmp(v, "off") == 0 || strcmp(v, "none") == 0) return 0;
-        snprintf(out, out_size, "%s", v);
-        return 1;
-    }
-    v = getenv("XDG_CACHE_HOME");
-    if (v && v[0] == '/') { /* XDG: relative values are invalid and ignored */
-        snprintf(out, out_size, "%s/strandlight", v);
-        return 1;
-    }
-    v = getenv("HOME");
-    if (v && *v) {
-        snprintf(out, out_size, "%s/.cache/strandlight", v);
-        return 1;
-    }
-    return 0;
-}
-
 /* ---------------------------------------------------------------- cache key */
 
-typedef struct key_hash {
-    uint64_t a, b;
-} key_hash;
+/* The key is 128 bits: two FNV-1a chains with different seeds over the same inputs. */
+typedef sl_cache_key key_hash;
 
 static void key_add(key_hash *h, const void *data, size_t n) {
     uint64_t len = n; /* length first, so ("ab","c") and ("a","bc") differ */
@@ -144,30 +122,22 @@ static int key_add_headers(key_hash *h, const char *dir, sl_err *e) {
 
 /* ---------------------------------------------------------------- cache file */
 
-static void put_u64(unsigned char *p, uint64_t v) {
-    memcpy(p, &v, 8);
-}
-static uint64_t get_u64(const unsigned char *p) {
-    uint64_t v;
-    memcpy(&v, p, 8);
-    return v;
-}
+/* The payload is the driver's binary as clGetProgramInfo gives it (base/disk_cache.h wraps it
+ * with the key and an integrity hash); bump when that changes. */
+#define CLBIN_FORMAT 2u
 
 /* Loads a valid entry into a built program, or returns -1 (missing, corrupt, rejected). */
-static int cache_load(const sl_cl_build_target *t, const char *path, key_hash key,
+static int cache_load(const sl_cl_build_target *t, const char *path, sl_cache_key key,
                       const char *options, cl_program *prog) {
-    unsigned char *data = NULL;
-    size_t size = 0;
-    if (sl_read_file(path, &data, &size, SL_MAX_CACHE_ENTRY, NULL)) return -1;
-    int ok = size >= 40 && memcmp(data, cache_magic, 8) == 0 && get_u64(data + 8) == key.a &&
-             get_u64(data + 16) == key.b && get_u64(data + 24) == size - 40 && size > 40 &&
-             get_u64(data + 32) == sl_hash64(data + 40, size - 40, 0);
-    if (!ok) {
+    void *data = NULL;
+    size_t bin_size = 0;
+    if (sl_cache_read(path, CLBIN_FORMAT, key, SL_MAX_CACHE_ENTRY, &data, &bin_size, NULL))
+        return -1;
+    if (bin_size == 0) {
         free(data);
         return -1;
     }
-    size_t bin_size = size - 40;
-    const unsigned char *bin = data + 40;
+    const unsigned char *bin = data;
     cl_int err, status = CL_SUCCESS;
     cl_program p = clCreateProgramWithBinary(t->ctx, 1, &t->device, &bin_size, &bin, &status, &err);
     free(data);
@@ -184,33 +154,18 @@ static int cache_load(const sl_cl_build_target *t, const char *path, key_hash ke
 }
 
 /* Best effort: a cache that cannot be written only costs time later. */
-static void cache_store(const sl_cl_build_target *t, const char *path, key_hash key,
-                        cl_program prog) {
+static void cache_store(const char *path, sl_cache_key key, cl_program prog) {
     size_t bin_size = 0;
     if (clGetProgramInfo(prog, CL_PROGRAM_BINARY_SIZES, sizeof bin_size, &bin_size, NULL) !=
             CL_SUCCESS ||
         bin_size == 0 || bin_size > SL_MAX_CACHE_ENTRY)
         return;
-    unsigned char *buf = sl_malloc(bin_size + 40);
-    unsigned char *bin = buf + 40;
-    if (clGetProgramInfo(prog, CL_PROGRAM_BINARIES, sizeof bin, &bin, NULL) != CL_SUCCESS) {
-        free(buf);
-        return;
+    unsigned char *bin = sl_malloc(bin_size);
+    if (clGetProgramInfo(prog, CL_PROGRAM_BINARIES, sizeof bin, &bin, NULL) == CL_SUCCESS) {
+        sl_cache_part part = {bin, bin_size};
+        sl_cache_write(path, CLBIN_FORMAT, key, &part, 1, 0, NULL);
     }
-    memcpy(buf, cache_magic, 8);
-    put_u64(buf + 8, key.a);
-    put_u64(buf + 16, key.b);
-    put_u64(buf + 24, bin_size);
-    put_u64(buf + 32, sl_hash64(bin, bin_size, 0));
-    sl_atomic_file af;
-    if (sl_atomic_open(&af, path, NULL) == 0) {
-        if (fwrite(buf, 1, bin_size + 40, af.fp) == bin_size + 40)
-            sl_atomic_commit(&af, NULL);
-        else
-            sl_atomic_abort(&af);
-    }
-    (void)t;
-    free(buf);
+    free(bin);
 }
 
 /* ---------------------------------------------------------------- build */
@@ -265,9 +220,8 @@ int sl_cl_build_program(const sl_cl_build_target *t, const char *cl_file, const 
             snprintf(stem, sizeof stem, "%s", base ? base + 1 : cl_file);
             char *dot = strrchr(stem, '.');
             if (dot) *dot = 0;
-            snprintf(entry, sizeof entry, "%s/%s-%016llx%016llx.bin", t->cache_dir, stem,
-                     (unsigned long long)key.a, (unsigned long long)key.b);
-            if (cache_load(t, entry, key, opts, prog) == 0) {
+            if (sl_cache_path(entry, sizeof entry, t->cache_dir, stem, key, CLBIN_FORMAT) &&
+                cache_load(t, entry, key, opts, prog) == 0) {
                 *from_cache = 1;
                 free(src);
                 free(opts);
@@ -294,7 +248,7 @@ int sl_cl_build_program(const sl_cl_build_target *t, const char *cl_file, const 
                 err == CL_BUILD_PROGRAM_FAILURE ? " (build log above)" : "");
         return SL_CL_EKERNEL;
     }
-    if (entry[0]) cache_store(t, entry, key, p);
+    if (entry[0]) cache_store(entry, key, p);
     *prog = p;
     return 0;
 }

@@ -117,47 +117,79 @@ int sl_lobes_load(const char *path, sl_lobes *out, sl_err *e) {
     return rc;
 }
 
-int sl_lobes_save(const char *path, const sl_lobes *l, sl_err *e) {
-    if (l->count < 1) return sl_fail(e, "%s: no lobes to write", path);
+char *sl_lobes_format(const sl_lobes *l, const char *name, size_t *len, sl_err *e) {
+    if (l->count < 1) {
+        sl_fail(e, "%s: no lobes to write", name);
+        return NULL;
+    }
     for (int i = 0; i < l->count; i++) {
         sl_lobe tmp = l->lobe[i];
-        if (check_lobe(&tmp, path, i, e)) return -1;
+        if (check_lobe(&tmp, name, i, e)) return NULL;
     }
     cJSON *fit = NULL;
     if (l->fit_json) {
         fit = cJSON_Parse(l->fit_json);
         if (!fit || !cJSON_IsObject(fit)) {
             cJSON_Delete(fit);
-            return sl_fail(e, "%s: internal: the \"fit\" record is not a JSON object", path);
+            sl_fail(e, "%s: internal: the \"fit\" record is not a JSON object", name);
+            return NULL;
         }
     }
-    sl_atomic_file af;
-    if (sl_make_parent_dirs(path, e) || sl_atomic_open(&af, path, e)) {
+    char *text = NULL;
+    size_t n = 0;
+    FILE *fp = open_memstream(&text, &n);
+    if (!fp) {
         cJSON_Delete(fit);
-        return -1;
+        sl_fail(e, "%s: out of memory", name);
+        return NULL;
     }
     /* One lobe per line: easy to read and to diff. %.17g round-trips doubles exactly. */
-    fprintf(af.fp, "{\n  \"lobes\": [\n");
+    fprintf(fp, "{\n  \"lobes\": [\n");
     for (int i = 0; i < l->count; i++) {
         const sl_lobe *b = &l->lobe[i];
-        fprintf(af.fp,
+        fprintf(fp,
                 "    {\"dir\": [%.17g, %.17g, %.17g], \"lambda\": %.17g, \"rgb\": [%.9g, %.9g, "
                 "%.9g]}%s\n",
                 b->dir[0], b->dir[1], b->dir[2], b->lambda, b->rgb[0], b->rgb[1], b->rgb[2],
                 i + 1 < l->count ? "," : "");
     }
-    fprintf(af.fp, "  ]");
+    fprintf(fp, "  ]");
     if (fit) {
         char *txt = cJSON_Print(fit);
         /* Indent the pretty-printed object by two spaces to sit inside the top level. */
-        fprintf(af.fp, ",\n  \"fit\": ");
+        fprintf(fp, ",\n  \"fit\": ");
         for (const char *c = txt; *c; c++) {
-            fputc(*c, af.fp);
-            if (*c == '\n') fputs("  ", af.fp);
+            fputc(*c, fp);
+            if (*c == '\n') fputs("  ", fp);
         }
         free(txt);
         cJSON_Delete(fit);
     }
-    fprintf(af.fp, "\n}\n");
+    fprintf(fp, "\n}\n");
+    int bad = ferror(fp);
+    if (fclose(fp) != 0 || bad) {
+        free(text);
+        sl_fail(e, "%s: out of memory", name);
+        return NULL;
+    }
+    *len = n;
+    return text;
+}
+
+int sl_lobes_save(const char *path, const sl_lobes *l, sl_err *e) {
+    size_t n = 0;
+    char *text = sl_lobes_format(l, path, &n, e);
+    if (!text) return -1;
+    sl_atomic_file af;
+    if (sl_make_parent_dirs(path, e) || sl_atomic_open(&af, path, e)) {
+        free(text);
+        return -1;
+    }
+    if (fwrite(text, 1, n, af.fp) != n) {
+        free(text);
+        sl_atomic_abort(&af);
+        return sl_fail(e, "%s: write error", path);
+    }
+    free(text);
     return sl_atomic_commit(&af, e);
 }

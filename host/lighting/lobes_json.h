@@ -40,6 +40,10 @@ int sl_lobes_load(const char *path, sl_lobes *out, sl_err *e);
 int sl_lobes_parse(const char *text, size_t len, const char *name, sl_lobes *out, sl_err *e);
 /* Writes atomically (temporary file + rename). Validates like the loader first. */
 int sl_lobes_save(const char *path, const sl_lobes *l, sl_err *e);
+/* The text sl_lobes_save writes, validated the same way (`name` for messages): allocated (free
+ * it), its length in *len; NULL with e set. For callers that store it elsewhere (the disk cache
+ * of fitted lobes). */
+char *sl_lobes_format(const sl_lobes *l, const char *name, size_t *len, sl_err *e);
 void sl_lobes_free(sl_lobes *l);
 
 /* Integral of G over the sphere: pi lambda^2 (1 - exp(-4 / lambda^2)). */

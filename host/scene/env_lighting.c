@@ -1,14 +1,16 @@
 /* env_lighting.c: see env_lighting.h. */
 #include "scene/env_lighting.h"
 
-#include "cl/clrt.h"
+#include "base/disk_cache.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
+
+/* Layout of a fitted-lobes cache entry's payload (the lobes JSON text); bump when it changes. */
+#define LOBES_FORMAT 1u
 
 /* The "fit" record: everything needed to tell whether lobes are stale and how good they are. */
 char *sl_envfit_record(const char *map_path, const sl_envmap *m, const sl_envfit_settings *s,
@@ -60,20 +62,27 @@ int sl_scene_lobes(const sl_scene *s, int clamp_nonfinite, sl_lobes *out, sl_err
     set.lobes = s->lobes;
     set.progress = 1;
     /* Cache key: the decoded pixels' hash, the lobe count and the program version (a newer
-     * fitter may fit better). */
-    char dir[4096], path[4600] = "";
+     * fitter may fit better). The entry's payload is the lobes file text sl_lobes_save writes. */
+    char dir[4096], path[4600] = "", what[64];
+    snprintf(what, sizeof what, "n%d-v%s", set.lobes, SL_VERSION);
+    sl_cache_key key = {map.hash, sl_hash64(what, strlen(what), 0x4c4f424553ull)};
     if (sl_cache_dir_find(dir, sizeof dir))
-        snprintf(path, sizeof path, "%s/lobes-%016llx-n%d-v%s.json", dir,
-                 (unsigned long long)map.hash, set.lobes, SL_VERSION);
-    struct stat st;
-    if (path[0] && stat(path, &st) == 0) {
-        sl_err ce;
-        if (sl_lobes_load(path, out, &ce) == 0) {
-            sl_note("environment: %d lobes from the cache (%s)", out->count, path);
-            sl_envmap_free(&map);
-            return 0;
+        sl_cache_path(path, sizeof path, dir, "lobes", key, LOBES_FORMAT);
+    if (path[0]) {
+        sl_err ce = {{0}};
+        void *text = NULL;
+        size_t n = 0;
+        int rc = sl_cache_read(path, LOBES_FORMAT, key, (size_t)256 << 20, &text, &n, &ce);
+        if (rc == 0) {
+            rc = sl_lobes_parse(text, n, path, out, &ce);
+            free(text);
+            if (rc == 0) {
+                sl_note("environment: %d lobes from the cache (%s)", out->count, path);
+                sl_envmap_free(&map);
+                return 0;
+            }
         }
-        sl_warn("ignoring a bad cache entry: %s", ce.msg);
+        if (rc < 0) sl_warn("ignoring a bad cache entry: %s", ce.msg);
     }
     sl_envfit_report rep;
     if (sl_envfit(&map, &set, out, &rep, e)) {
@@ -83,9 +92,15 @@ int sl_scene_lobes(const sl_scene *s, int clamp_nonfinite, sl_lobes *out, sl_err
     out->fit_json = sl_envfit_record(s->env_file, &map, &set, clamp_nonfinite, &rep, out->count);
     sl_note("environment: fitted %d lobes to %s in %.2f s (rel_l2 %.3f, through a 10 deg lobe %.3f)",
             out->count, s->env_file, rep.time_s, rep.rel_l2, rep.lobe_conv_rel_l2);
-    sl_err ce;
-    if (path[0] && (sl_make_parent_dirs(path, &ce) || sl_lobes_save(path, out, &ce)))
-        sl_warn("cannot cache the fitted lobes: %s", ce.msg);
+    if (path[0]) {
+        sl_err ce = {{0}};
+        size_t n = 0;
+        char *text = sl_lobes_format(out, path, &n, &ce);
+        sl_cache_part part = {text, n};
+        if (!text || sl_cache_write(path, LOBES_FORMAT, key, &part, 1, 0, &ce))
+            sl_warn("cannot cache the fitted lobes: %s", ce.msg);
+        free(text);
+    }
     sl_envmap_free(&map);
     return 0;
 }

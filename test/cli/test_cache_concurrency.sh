@@ -1,7 +1,7 @@
 # test_cache_concurrency.sh: several processes filling the same SL_CACHE_DIR at once must not
-# corrupt it (docs/robustness.md). Cache writers use sl_atomic_open/commit: a temporary name
-# unique per process (pid + counter) renamed over the entry, so a reader sees the old entry,
-# no entry, or a whole new one. Checked: every concurrent run succeeds with the same output; a
+# corrupt it (docs/robustness.md). Cache writers use sl_cache_write (host/base/disk_cache.h): a
+# temporary name unique per process (pid + counter, O_EXCL) renamed over the entry, so a reader
+# sees the old entry, no entry, or a whole new one; damaged entries fail their hash. Checked: every concurrent run succeeds with the same output; a
 # later run reads every entry from the cache (none rejected as corrupt, nothing rebuilt); no
 # temporary file is left. Caches covered: the fitted lobes and SRBF tables (`render` with an
 # environment file) and the OpenCL program binaries (`kernels`, when there is a device).
@@ -42,6 +42,28 @@ if [ $rc -eq 0 ] && printf '%s' "$out" | grep -q "lobes from the cache" &&
     pass cache_conc_render_entries_valid
 else fail cache_conc_render_entries_valid "rc=$rc $(printf '%s' "$out" | head -3)"; fi
 no_leftovers cache_conc_render_no_temp "$SL_CACHE_DIR"
+
+# Damaged entries are rebuilt, never trusted (host/base/disk_cache.h: a header with the key and
+# a hash of the payload): one byte changed in the lobes entry, the SRBF tables cut short. The
+# run warns, fits again, gives the same image and rewrites both; the next run reads them.
+lobes_entry=$(ls "$SL_CACHE_DIR"/lobes-*.bin 2>/dev/null | head -1)
+tables_entry=$(ls "$SL_CACHE_DIR"/srbf-tables-*.bin 2>/dev/null | head -1)
+if [ -z "$lobes_entry" ] || [ -z "$tables_entry" ]; then
+    fail cache_conc_damaged_rebuilt "missing entries: $(ls "$SL_CACHE_DIR")"
+else
+    printf 'X' | dd of="$lobes_entry" bs=1 seek=100 conv=notrunc 2>/dev/null
+    truncate -s -1 "$tables_entry"
+    out=$("$SL" render "$D/scene3.json" --device c 2>&1); rc=$?
+    if [ $rc -eq 0 ] && printf '%s' "$out" | grep -q "ignoring a bad cache entry" &&
+        printf '%s' "$out" | grep -q "fitted" && cmp -s "$D/out1/f.exr" "$D/out3/f.exr"; then
+        pass cache_conc_damaged_rebuilt
+    else fail cache_conc_damaged_rebuilt "rc=$rc $(printf '%s' "$out" | head -3)"; fi
+    out=$("$SL" render "$D/scene3.json" --device c 2>&1); rc=$?
+    if [ $rc -eq 0 ] && printf '%s' "$out" | grep -q "lobes from the cache" &&
+        ! printf '%s' "$out" | grep -qi "bad cache entry\|srbf tables built"; then
+        pass cache_conc_damaged_rewritten
+    else fail cache_conc_damaged_rewritten "rc=$rc $(printf '%s' "$out" | head -3)"; fi
+fi
 
 # OpenCL program binaries: two `kernels` runs on an empty program cache at once.
 if ! have_cl; then

@@ -8,6 +8,7 @@
  * progress bar. */
 #include "passes/shade/srbf_ren.h"
 
+#include "base/disk_cache.h"
 #include "base/parallel.h"
 
 #include "srbf_c.h"
@@ -22,7 +23,6 @@
 
 #define PI 3.14159265358979323846
 #define CHUNK_ROWS (1 << 17)
-#define REN_MAGIC "SLSRREN1"
 
 void sl_srbf_ren_params_default(sl_srbf_ren_params *p) {
     memset(p, 0, sizeof *p);
@@ -307,13 +307,16 @@ static int build(sl_device *dev, const sl_material *m, const sl_srbf_ren_params 
 
 /* ---- disk cache ---- */
 
-typedef struct ren_head {
-    char magic[8];
-    uint64_t key, sum, n_floats;
+/* The payload: what the build measured and the table's shape, then the table's floats
+ * (base/disk_cache.h adds the key and the integrity hash). Bump when this layout changes. */
+#define REN_FORMAT 2u
+
+typedef struct ren_meta {
+    uint64_t n_floats;
     sl_srbf_ren_dims dims;
     double build_s, err_median, err_p95, err_max;
     char built_on[256];
-} ren_head;
+} ren_meta;
 
 static uint64_t ren_key(const sl_material *m, const sl_srbf_ren_params *p,
                         const sl_srbf_tables *ft) {
@@ -331,28 +334,23 @@ static uint64_t ren_key(const sl_material *m, const sl_srbf_ren_params *p,
 }
 
 static int try_load(sl_srbf_ren *t, const char *path) {
-    unsigned char *buf = NULL;
+    ren_meta h;
+    const size_t nT = t->n_floats * sizeof(float);
+    void *data = NULL;
     size_t n = 0;
-    sl_err e2 = {{0}};
-    size_t want = sizeof(ren_head) + t->n_floats * sizeof(float);
-    if (sl_read_file(path, &buf, &n, want + 1, &e2)) return -1;
-    ren_head h;
-    int ok = n == want;
+    if (sl_cache_read(path, REN_FORMAT, (sl_cache_key){t->key, 0}, sizeof h + nT, &data, &n, NULL))
+        return -1;
+    const unsigned char *d = data;
+    int ok = n == sizeof h + nT;
     if (ok) {
-        memcpy(&h, buf, sizeof h);
-        ok = memcmp(h.magic, REN_MAGIC, 8) == 0 && h.key == t->key && h.n_floats == t->n_floats &&
-             memcmp(&h.dims, &t->dims, sizeof h.dims) == 0;
+        memcpy(&h, d, sizeof h);
+        ok = h.n_floats == t->n_floats && memcmp(&h.dims, &t->dims, sizeof h.dims) == 0;
     }
     if (ok) {
-        t->T = sl_malloc(t->n_floats * sizeof(float));
-        memcpy(t->T, buf + sizeof h, t->n_floats * sizeof(float));
-        ok = sl_hash64(t->T, t->n_floats * sizeof(float), 7) == h.sum;
-        if (!ok) {
-            free(t->T);
-            t->T = NULL;
-        }
+        t->T = sl_malloc(nT);
+        memcpy(t->T, d + sizeof h, nT);
     }
-    free(buf);
+    free(data);
     if (!ok) return -1;
     t->build_s = h.build_s;
     t->err_median = h.err_median;
@@ -365,17 +363,8 @@ static int try_load(sl_srbf_ren *t, const char *path) {
 }
 
 static void save(const sl_srbf_ren *t) {
-    sl_err e2 = {{0}};
-    sl_atomic_file af;
-    if (sl_make_parent_dirs(t->path, &e2) || sl_atomic_open(&af, t->path, &e2)) {
-        sl_warn("srbf table: not cached: %s", e2.msg);
-        return;
-    }
-    ren_head h;
+    ren_meta h;
     memset(&h, 0, sizeof h);
-    memcpy(h.magic, REN_MAGIC, 8);
-    h.key = t->key;
-    h.sum = sl_hash64(t->T, t->n_floats * sizeof(float), 7);
     h.n_floats = t->n_floats;
     h.dims = t->dims;
     h.build_s = t->build_s;
@@ -383,14 +372,10 @@ static void save(const sl_srbf_ren *t) {
     h.err_p95 = t->err_p95;
     h.err_max = t->err_max;
     memcpy(h.built_on, t->built_on, sizeof h.built_on);
-    int ok = fwrite(&h, sizeof h, 1, af.fp) == 1 &&
-             fwrite(t->T, sizeof(float), t->n_floats, af.fp) == t->n_floats;
-    if (!ok) {
-        sl_atomic_abort(&af);
-        sl_warn("srbf table: not cached: write error on %s", t->path);
-        return;
-    }
-    if (sl_atomic_commit(&af, &e2)) sl_warn("srbf table: not cached: %s", e2.msg);
+    sl_cache_part parts[2] = {{&h, sizeof h}, {t->T, t->n_floats * sizeof(float)}};
+    sl_err e2 = {{0}};
+    if (sl_cache_write(t->path, REN_FORMAT, (sl_cache_key){t->key, 0}, parts, 2, 0, &e2))
+        sl_warn("srbf table: not cached: %s", e2.msg);
 }
 
 static int check_params(const sl_srbf_ren_params *p, sl_err *e) {
@@ -436,9 +421,9 @@ int sl_srbf_ren_get(sl_device *dev, const sl_material *m, const sl_srbf_ren_para
     else
         have_dir = sl_cache_dir_find(dir, sizeof dir);
     if (have_dir) {
-        snprintf(t->path, sizeof t->path, "%s/srbf-ren-%016llx.bin", dir,
-                 (unsigned long long)t->key);
-        if (try_load(t, t->path) == 0) {
+        if (sl_cache_path(t->path, sizeof t->path, dir, "srbf-ren", (sl_cache_key){t->key, 0},
+                          REN_FORMAT) &&
+            try_load(t, t->path) == 0) {
             sl_srbf_tables_free(&ft);
             return 0;
         }
@@ -494,18 +479,13 @@ int sl_srbf_ren_cached(const sl_material *m, const sl_srbf_ren_params *p_in,
     uint64_t key = ren_key(m, &p, ft);
     if (!ft_in) sl_srbf_tables_free(&own);
     char path[4200];
-    snprintf(path, sizeof path, "%s/srbf-ren-%016llx.bin", dir, (unsigned long long)key);
-    /* the header only (magic, key, size): sl_srbf_ren_get still verifies the data's checksum and
-     * rebuilds a damaged file, so a 1 here is a promise of a cheap load, not of a valid table */
+    /* the header only (format, key, size): sl_srbf_ren_get still verifies the payload's hash
+     * and rebuilds a damaged file, so a 1 here is a promise of a cheap load, not of a valid
+     * table */
     size_t n_floats = warp_floats(&p) + 9 * (size_t)p.n_h * p.n_t * p.n_phi * p.n_lambda;
-    FILE *f = fopen(path, "rb");
-    if (!f) return 0;
-    ren_head h;
-    int ok = fread(&h, sizeof h, 1, f) == 1 && memcmp(h.magic, REN_MAGIC, 8) == 0 && h.key == key &&
-             h.n_floats == n_floats;
-    if (ok) ok = fseek(f, 0, SEEK_END) == 0 && ftell(f) == (long)(sizeof h + n_floats * 4);
-    fclose(f);
-    return ok;
+    return sl_cache_path(path, sizeof path, dir, "srbf-ren", (sl_cache_key){key, 0}, REN_FORMAT) &&
+           sl_cache_probe(path, REN_FORMAT, (sl_cache_key){key, 0},
+                          sizeof(ren_meta) + n_floats * sizeof(float));
 }
 
 void sl_srbf_ren_free(sl_srbf_ren *t) {

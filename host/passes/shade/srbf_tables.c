@@ -10,6 +10,7 @@
  * srbf` with model deon goes to the d'Eon fast path (--method xu is refused for it). */
 #include "passes/shade/srbf_tables.h"
 
+#include "base/disk_cache.h"
 #include "cl/clrt.h"
 #include "fiber_common_d.h"
 #include "srbf_c.h"
@@ -517,13 +518,13 @@ void sl_srbf_tables_free(sl_srbf_tables *t) {
 
 /* ---- disk cache ---- */
 
-#define MAGIC "SLSRBFT3"
+/* The payload: build times and errors, then C, H and D as floats (base/disk_cache.h adds the key
+ * and the integrity hash). Bump when this layout changes; the contents are tables_key's. */
+#define TABLES_FORMAT 4u
 
-typedef struct cache_head {
-    char magic[8];
-    uint64_t key, sum;
+typedef struct tables_meta {
     double build_s_C, build_s_H, err_C, err_H, build_s_W, err_W, err_D;
-} cache_head;
+} tables_meta;
 
 /* Hash of everything that defines the tables' contents. */
 static uint64_t tables_key(void) {
@@ -542,39 +543,28 @@ static uint64_t tables_key(void) {
     return sl_hash64(def, strlen(def), 0x5352424654424c31ull);
 }
 
-static uint64_t data_sum(const sl_srbf_tables *t) {
-    uint64_t h = sl_hash64(t->C, SL_SRBF_C_FLOATS * sizeof(float), 1);
-    h = sl_hash64(t->H, SL_SRBF_H_FLOATS * sizeof(float), h);
-    return sl_hash64(t->D, SL_SRBF_DEON_FLOATS * sizeof(float), h);
-}
-
 static int try_load(sl_srbf_tables *t, const char *path, uint64_t key) {
-    unsigned char *d = NULL;
+    const size_t nC = SL_SRBF_C_FLOATS * sizeof(float), nH = SL_SRBF_H_FLOATS * sizeof(float),
+                 nD = SL_SRBF_DEON_FLOATS * sizeof(float);
+    void *data = NULL;
     size_t n = 0;
-    sl_err e2 = {{0}};
-    size_t want = sizeof(cache_head) +
-                  (SL_SRBF_C_FLOATS + SL_SRBF_H_FLOATS + SL_SRBF_DEON_FLOATS) * sizeof(float);
-    if (sl_read_file(path, &d, &n, want + 1, &e2)) return -1;
-    cache_head h;
-    int ok = n == want;
-    if (ok) {
-        memcpy(&h, d, sizeof h);
-        ok = memcmp(h.magic, MAGIC, 8) == 0 && h.key == key;
+    tables_meta h;
+    if (sl_cache_read(path, TABLES_FORMAT, (sl_cache_key){key, 0}, sizeof h + nC + nH + nD, &data,
+                      &n, NULL))
+        return -1;
+    if (n != sizeof h + nC + nH + nD) {
+        free(data);
+        return -1;
     }
-    if (ok) {
-        t->C = sl_malloc(SL_SRBF_C_FLOATS * sizeof(float));
-        t->H = sl_malloc(SL_SRBF_H_FLOATS * sizeof(float));
-        t->D = sl_malloc(SL_SRBF_DEON_FLOATS * sizeof(float));
-        memcpy(t->C, d + sizeof h, SL_SRBF_C_FLOATS * sizeof(float));
-        memcpy(t->H, d + sizeof h + SL_SRBF_C_FLOATS * sizeof(float),
-               SL_SRBF_H_FLOATS * sizeof(float));
-        memcpy(t->D, d + sizeof h + (SL_SRBF_C_FLOATS + SL_SRBF_H_FLOATS) * sizeof(float),
-               SL_SRBF_DEON_FLOATS * sizeof(float));
-        ok = data_sum(t) == h.sum;
-        if (!ok) sl_srbf_tables_free(t);
-    }
-    free(d);
-    if (!ok) return -1;
+    const unsigned char *d = data;
+    memcpy(&h, d, sizeof h);
+    t->C = sl_malloc(nC);
+    t->H = sl_malloc(nH);
+    t->D = sl_malloc(nD);
+    memcpy(t->C, d + sizeof h, nC);
+    memcpy(t->H, d + sizeof h + nC, nH);
+    memcpy(t->D, d + sizeof h + nC + nH, nD);
+    free(data);
     t->build_s_C = h.build_s_C;
     t->build_s_H = h.build_s_H;
     t->err_C = h.err_C;
@@ -587,17 +577,8 @@ static int try_load(sl_srbf_tables *t, const char *path, uint64_t key) {
 }
 
 static void save(const sl_srbf_tables *t, const char *path, uint64_t key) {
-    sl_err e2 = {{0}};
-    sl_atomic_file af;
-    if (sl_make_parent_dirs(path, &e2) || sl_atomic_open(&af, path, &e2)) {
-        sl_warn("srbf tables: not cached: %s", e2.msg);
-        return;
-    }
-    cache_head h;
+    tables_meta h;
     memset(&h, 0, sizeof h);
-    memcpy(h.magic, MAGIC, 8);
-    h.key = key;
-    h.sum = data_sum(t);
     h.build_s_C = t->build_s_C;
     h.build_s_H = t->build_s_H;
     h.err_C = t->err_C;
@@ -605,16 +586,13 @@ static void save(const sl_srbf_tables *t, const char *path, uint64_t key) {
     h.build_s_W = t->build_s_W;
     h.err_W = t->err_W;
     h.err_D = t->err_D;
-    int ok = fwrite(&h, sizeof h, 1, af.fp) == 1 &&
-             fwrite(t->C, sizeof(float), SL_SRBF_C_FLOATS, af.fp) == SL_SRBF_C_FLOATS &&
-             fwrite(t->H, sizeof(float), SL_SRBF_H_FLOATS, af.fp) == SL_SRBF_H_FLOATS &&
-             fwrite(t->D, sizeof(float), SL_SRBF_DEON_FLOATS, af.fp) == SL_SRBF_DEON_FLOATS;
-    if (!ok) {
-        sl_atomic_abort(&af);
-        sl_warn("srbf tables: not cached: write error on %s", path);
-        return;
-    }
-    if (sl_atomic_commit(&af, &e2)) sl_warn("srbf tables: not cached: %s", e2.msg);
+    sl_cache_part parts[4] = {{&h, sizeof h},
+                              {t->C, SL_SRBF_C_FLOATS * sizeof(float)},
+                              {t->H, SL_SRBF_H_FLOATS * sizeof(float)},
+                              {t->D, SL_SRBF_DEON_FLOATS * sizeof(float)}};
+    sl_err e2 = {{0}};
+    if (sl_cache_write(path, TABLES_FORMAT, (sl_cache_key){key, 0}, parts, 4, 0, &e2))
+        sl_warn("srbf tables: not cached: %s", e2.msg);
 }
 
 int sl_srbf_tables_get(sl_srbf_tables *t, int verbose, sl_err *e) {
@@ -623,9 +601,10 @@ int sl_srbf_tables_get(sl_srbf_tables *t, int verbose, sl_err *e) {
     uint64_t key = tables_key();
     char dir[4000];
     if (sl_cache_dir_find(dir, sizeof dir)) {
-        snprintf(t->path, sizeof t->path, "%s/srbf-tables-%016llx.bin", dir,
-                 (unsigned long long)key);
-        if (try_load(t, t->path, key) == 0) return 0;
+        if (sl_cache_path(t->path, sizeof t->path, dir, "srbf-tables", (sl_cache_key){key, 0},
+                          TABLES_FORMAT) &&
+            try_load(t, t->path, key) == 0)
+            return 0;
     }
     sl_srbf_tables_build(t);
     if (verbose)

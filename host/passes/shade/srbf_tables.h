@@ -1,7 +1,7 @@
 /* srbf_tables.h: the material-independent 2-D tables of Xu 2011 Sec. 4.2 / 5 (C_k(lambda', phi)
  * of Eq. 14 and H_k^TT, H_k^TRT(eta, theta_d) of Eq. 19, 23) in the layout of kernels/srbf_xu.h,
- * built once in double, cached on disk by a hash of their definition (the cache directory of
- * host/cl/clrt.h's sl_cache_dir_find), each reporting its build time and interpolation error; and
+ * built once in double, cached on disk by a hash of their definition (a base/disk_cache.h entry
+ * in sl_cache_dir_find's directory), each reporting its build time and interpolation error; and
  * the srbf dispatch of `eval` to the float backends (cpu/srbf_c.h, host/passes/shade/srbf_cl.h).
  *
  *   sl_srbf_tables t;

@@ -4,6 +4,7 @@
  * fast path's K-buffer (fragment mode, host/verify/reference/reference_frag.h). */
 #include "verify/reference/reference.h"
 
+#include "base/disk_cache.h"
 #include "scene/camera.h"
 #include "io/envmap/envmap.h"
 #include "lighting/envsample.h"
@@ -337,9 +338,27 @@ void sl_image_error_blocks(const float *x, const float *ref, int w, int h, int b
     free(cnt);
 }
 
-/* The JSON beside the EXR: the key, settings, time and convergence. */
+/* The EXR's integrity record in the JSON beside it: the EXR keeps its own format (other tools
+ * read it), so its length and FNV-1a 64 (base/disk_cache.h) sit in "integrity"; a cached EXR
+ * that does not match them (truncated, corrupt, replaced) is rendered again, not trusted. */
+typedef struct exr_digest {
+    uint64_t bytes, hash;
+} exr_digest;
+
+/* 1 when ref's "integrity" object is present and records d. */
+static int integrity_matches(const cJSON *ref, exr_digest d) {
+    const cJSON *in = cJSON_GetObjectItemCaseSensitive(ref, "integrity");
+    const cJSON *b = cJSON_GetObjectItemCaseSensitive(in, "exr_bytes");
+    const cJSON *h = cJSON_GetObjectItemCaseSensitive(in, "exr_fnv1a64");
+    char want[32];
+    snprintf(want, sizeof want, "%016llx", (unsigned long long)d.hash);
+    return cJSON_IsNumber(b) && b->valuedouble == (double)d.bytes && cJSON_IsString(h) &&
+           strcmp(h->valuestring, want) == 0;
+}
+
+/* The JSON beside the EXR: the key, settings, time, convergence and the EXR's digest. */
 static int write_json(const char *path, const sl_scene *s, const sl_reference_settings *set,
-                      const sl_reference_result *r, int w, int h, sl_err *e) {
+                      const sl_reference_result *r, int w, int h, exr_digest d, sl_err *e) {
     cJSON *root = cJSON_CreateObject(), *ref = cJSON_AddObjectToObject(root, "reference");
     char key[32];
     snprintf(key, sizeof key, "%016llx", (unsigned long long)r->key);
@@ -372,6 +391,11 @@ static int write_json(const char *path, const sl_scene *s, const sl_reference_se
         cJSON_AddNumberToObject(c, "rel_rmse_4x4", r->conv_rel_rmse_4x4);
         cJSON_AddNumberToObject(c, "time_2n_s", r->time_2n_s);
     }
+    cJSON *in = cJSON_AddObjectToObject(ref, "integrity");
+    char hash[32];
+    snprintf(hash, sizeof hash, "%016llx", (unsigned long long)d.hash);
+    cJSON_AddNumberToObject(in, "exr_bytes", (double)d.bytes);
+    cJSON_AddStringToObject(in, "exr_fnv1a64", hash);
     char *text = cJSON_Print(root);
     cJSON_Delete(root);
     sl_atomic_file af;
@@ -385,7 +409,8 @@ static int write_json(const char *path, const sl_scene *s, const sl_reference_se
     return rc;
 }
 
-/* 1 when path.json records this key (and a convergence when asked); fills r. */
+/* 1 when path.json records this key (and a convergence when asked) and the EXR's digest; fills
+ * r. */
 static int read_cached(const char *json_path, const char *exr_path, uint64_t key, int conv,
                        sl_reference_result *r) {
     if (access(exr_path, R_OK) != 0) return 0;
@@ -402,7 +427,16 @@ static int read_cached(const char *json_path, const char *exr_path, uint64_t key
     snprintf(want, sizeof want, "%016llx", (unsigned long long)key);
     if (cJSON_IsString(k) && strcmp(k->valuestring, want) == 0) {
         const cJSON *c = cJSON_GetObjectItemCaseSensitive(ref, "convergence");
-        if (!conv || cJSON_IsObject(c)) {
+        int usable = !conv || cJSON_IsObject(c);
+        exr_digest d;
+        if (usable && (sl_cache_file_hash(exr_path, &d.hash, &d.bytes, NULL) != 0 ||
+                       !integrity_matches(ref, d))) {
+            sl_warn("reference: %s does not match the digest in %s (corrupt, truncated or "
+                    "written before digests); rendering it again",
+                    exr_path, json_path);
+            usable = 0;
+        }
+        if (usable) {
             ok = 1;
             r->cached = 1;
             r->key = key;
@@ -493,7 +527,9 @@ int sl_reference_run(const sl_scene *s, const sl_reference_settings *set, const 
         res->has_convergence = 1;
     }
     if (sl_reference_write_exr(exr_path, &f, e)) goto done;
-    if (write_json(json_path, s, set, res, f.width, f.height, e)) goto done;
+    exr_digest d;
+    if (sl_cache_file_hash(exr_path, &d.hash, &d.bytes, e)) goto done;
+    if (write_json(json_path, s, set, res, f.width, f.height, d, e)) goto done;
     rc = 0;
 done:
     sl_reference_frame_free(&f);
@@ -529,8 +565,21 @@ int sl_reference_load(const char *exr_path, sl_reference_frame *out, sl_err *e) 
     out->ms = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(ref, "multiple_scattering"));
     out->fragments = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(ref, "fragments"));
     out->key = strtoull(k->valuestring, NULL, 16);
+    if (sl_read_file(exr_path, &data, &size, (size_t)1 << 34, e)) {
+        cJSON_Delete(root);
+        return -1;
+    }
+    /* a record without a digest predates them and is taken as it is; one with a digest must
+     * match the EXR (a reference read back is what every error of a report is measured against) */
+    exr_digest d = {size, sl_cache_hash(data, size)};
+    int has_digest = cJSON_GetObjectItemCaseSensitive(ref, "integrity") != NULL;
+    int digest_ok = !has_digest || integrity_matches(ref, d);
     cJSON_Delete(root);
-    if (sl_read_file(exr_path, &data, &size, (size_t)1 << 34, e)) return -1;
+    if (!digest_ok) {
+        free(data);
+        return sl_fail(e, "%s: does not match the digest in %s (corrupt, truncated or replaced)",
+                       exr_path, json_path);
+    }
     size_t n = (size_t)W * H;
     float *pl = sl_malloc(NPLANES * n * sizeof(float));
     float *planes[NPLANES];

@@ -101,6 +101,25 @@ TEST(reference_run_cache_and_load) {
             hair += rf.rgba[4 * i + 3] > 0;
         CHECK(hair > 5);
     }
+    /* a damaged EXR fails the digest in its JSON: the loader refuses it, a run renders it again
+     * (and the rewritten pair is a cache hit again) */
+    FILE *fx = fopen(exr, "r+b");
+    CHECK(fx != NULL);
+    if (fx) {
+        fseek(fx, -5, SEEK_END);
+        int c = fgetc(fx);
+        fseek(fx, -5, SEEK_END);
+        fputc(c ^ 1, fx);
+        fclose(fx);
+    }
+    sl_reference_frame bad;
+    CHECK(sl_reference_load(exr, &bad, &e) == -1 && strstr(e.msg, "digest") != NULL);
+    sl_reference_frame_free(&bad);
+    sl_reference_result r4;
+    CHECK(sl_reference_run(s, &set, exr, 1, &r4, &e) == 0 && r4.cached == 0 && r4.key == r1.key);
+    CHECK(sl_reference_run(s, &set, exr, 1, &r4, &e) == 0 && r4.cached == 1);
+    CHECK(sl_reference_load(exr, &bad, &e) == 0);
+    sl_reference_frame_free(&bad);
     /* another environment intensity is another key */
     s->env_intensity = 2;
     sl_reference_result r3;
