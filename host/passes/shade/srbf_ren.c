@@ -8,6 +8,7 @@
  * progress bar. */
 #include "passes/shade/srbf_ren.h"
 
+#include "cl/cl_args.h"
 #include "srbf_c.h"
 #include "passes/shade/srbf_cl.h"
 #include "srbf_fast.h"
@@ -534,12 +535,13 @@ int slcl_srbf_ren_enqueue(sl_cl *cl, const sl_srbf_ren_dims *d, cl_mem T, size_t
     int rc = sl_cl_get_kernel(cl, "srbf_ren.cl", "sl_srbf_ren_eval", "", &k, e);
     if (rc) return rc;
     cl_uint nn = (cl_uint)n;
-    cl_int err = clSetKernelArg(k, 0, sizeof *d, d);
-    if (err == CL_SUCCESS) err = clSetKernelArg(k, 1, sizeof nn, &nn);
-    if (err == CL_SUCCESS) err = clSetKernelArg(k, 2, sizeof(cl_mem), &in);
-    if (err == CL_SUCCESS) err = clSetKernelArg(k, 3, sizeof(cl_mem), &out);
-    if (err == CL_SUCCESS) err = clSetKernelArg(k, 4, sizeof(cl_mem), &T);
-    if (sl_cl_check(err, "clSetKernelArg", e)) return -1;
+    sl_cl_args args = sl_cl_args_begin(k, e);
+    SL_CL_ARG(&args, 0, *d);
+    SL_CL_ARG(&args, 1, nn);
+    SL_CL_ARG(&args, 2, in);
+    SL_CL_ARG(&args, 3, out);
+    SL_CL_ARG(&args, 4, T);
+    if (sl_cl_args_end(&args)) return -1;
     size_t local = 64, global;
     size_t maxwg = sl_cl_max_work_group_size(cl);
     if (maxwg && local > maxwg) local = maxwg;
