@@ -74,8 +74,7 @@ void sl_renderer_set_editing(sl_renderer *r, int editing) {
 }
 
 static void free_ren(sl_renderer *r) {
-    if (r->ren_mem) clReleaseMemObject(r->ren_mem);
-    r->ren_mem = NULL;
+    slcl_srbf_ren_table_release(&r->ren_mem);
     if (r->have_ren) sl_srbf_ren_free(&r->ren);
     r->have_ren = 0;
 }
