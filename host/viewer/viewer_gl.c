@@ -1,8 +1,7 @@
-/* viewer_gl.c: window, shaders, frame upload (PBO or cl_khr_gl_sharing) and screenshots of the
- * viewer; see viewer_gl.h. Measured on Mesa llvmpipe under Xvfb (docs/viewer.md). */
+/* viewer_gl.c: window, shaders, frame upload (PBO, or cl_khr_gl_sharing through viewer_gl_cl.c)
+ * and screenshots of the viewer; see viewer_gl.h. Measured on Mesa llvmpipe under Xvfb (docs/viewer.md). */
 #include "viewer/viewer_gl.h"
 
-#include <CL/cl_gl.h>
 #include <stb/stb_image_write.h>
 
 #include <stdio.h>
@@ -114,94 +113,17 @@ int sl_vgl_open(sl_viewer_gl *g, int w, int h, sl_err *e) {
     return 0;
 }
 
-static int has_ext(cl_device_id d, const char *name) {
-    size_t n = 0;
-    if (clGetDeviceInfo(d, CL_DEVICE_EXTENSIONS, 0, NULL, &n) != CL_SUCCESS || n == 0) return 0;
-    char *s = sl_malloc(n + 1);
-    int found = 0;
-    if (clGetDeviceInfo(d, CL_DEVICE_EXTENSIONS, n, s, NULL) == CL_SUCCESS) {
-        s[n] = 0;
-        found = strstr(s, name) != NULL;
-    }
-    free(s);
-    return found;
-}
-
-void sl_vgl_interop(sl_viewer_gl *g, sl_device *dev) {
-    g->dev = dev;
-    g->cl_shared = 0;
-    if (!dev->is_opencl) {
-        snprintf(g->upload_path, sizeof g->upload_path, "PBO upload (C path: no OpenCL device)");
-        return;
-    }
-    if (!has_ext(sl_cl_device_id(dev->cl), "cl_khr_gl_sharing")) {
-        snprintf(g->upload_path, sizeof g->upload_path,
-                 "PBO upload (%.200s has no cl_khr_gl_sharing)", dev->name);
-        return;
-    }
-    /* The device can share: the texture is made a CL image at its first upload (it needs its
-     * size); a context created without the GL properties refuses it there and we fall back. */
-    g->cl_shared = 1;
-    snprintf(g->upload_path, sizeof g->upload_path, "shared GL texture (cl_khr_gl_sharing)");
-}
-
-void sl_vgl_release_cl(sl_viewer_gl *g) {
-    if (g->cl_tex) clReleaseMemObject((cl_mem)g->cl_tex);
-    g->cl_tex = NULL;
-    g->cl_shared = 0;
-}
-
-/* cl_khr_gl_sharing: writes the frame into the texture through OpenCL (acquire, write,
- * release). Not testable here: PoCL has no cl_khr_gl_sharing. Returns 0, or -1 to fall back. */
-static int upload_shared(sl_viewer_gl *g, const sl_fbuf *f) {
-    cl_int err = CL_SUCCESS;
-    cl_command_queue q = sl_cl_queue(g->dev->cl);
-    if (!g->cl_tex) {
-        g->cl_tex = clCreateFromGLTexture(sl_cl_context(g->dev->cl), CL_MEM_WRITE_ONLY,
-                                          GL_TEXTURE_2D, 0, g->frame_tex, &err);
-        if (err != CL_SUCCESS) {
-            g->cl_tex = NULL;
-            snprintf(g->upload_path, sizeof g->upload_path,
-                     "PBO upload (cl_khr_gl_sharing present, but the OpenCL context is not "
-                     "GL-shared: error %d)",
-                     (int)err);
-            g->cl_shared = 0;
-            return -1;
-        }
-    }
-    cl_mem m = (cl_mem)g->cl_tex;
-    size_t origin[3] = {0, 0, 0}, region[3] = {(size_t)f->width, (size_t)f->height, 1};
-    glFinish();
-    err = clEnqueueAcquireGLObjects(q, 1, &m, 0, NULL, NULL);
-    if (err == CL_SUCCESS)
-        err = clEnqueueWriteImage(q, m, CL_TRUE, origin, region, 0, 0, f->rgba, 0, NULL, NULL);
-    cl_int err2 = clEnqueueReleaseGLObjects(q, 1, &m, 0, NULL, NULL);
-    clFinish(q);
-    if (err != CL_SUCCESS || err2 != CL_SUCCESS) {
-        clReleaseMemObject(m);
-        g->cl_tex = NULL;
-        g->cl_shared = 0;
-        snprintf(g->upload_path, sizeof g->upload_path,
-                 "PBO upload (shared texture write failed: error %d)", (int)err);
-        return -1;
-    }
-    return 0;
-}
-
 int sl_vgl_upload(sl_viewer_gl *g, const sl_fbuf *f, sl_err *e) {
     double t0 = sl_now();
     size_t bytes = (size_t)f->width * f->height * 4 * sizeof(float);
     glBindTexture(GL_TEXTURE_2D, g->frame_tex);
     if (f->width != g->tex_w || f->height != g->tex_h) {
-        if (g->cl_tex) { /* the CL image is bound to the old storage */
-            clReleaseMemObject((cl_mem)g->cl_tex);
-            g->cl_tex = NULL;
-        }
+        sl_vgl_drop_cl_image(g); /* the CL image is bound to the old storage */
         glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, f->width, f->height, 0, GL_RGBA, GL_FLOAT, NULL);
         g->tex_w = f->width;
         g->tex_h = f->height;
     }
-    if (!(g->cl_shared && upload_shared(g, f) == 0)) {
+    if (!(g->cl_shared && sl_vgl_upload_shared(g, f) == 0)) {
         glBindBuffer(GL_PIXEL_UNPACK_BUFFER, g->pbo);
         glBufferData(GL_PIXEL_UNPACK_BUFFER, (GLsizeiptr)bytes, NULL, GL_STREAM_DRAW);
         void *p = glMapBufferRange(GL_PIXEL_UNPACK_BUFFER, 0, (GLsizeiptr)bytes,
@@ -342,7 +264,7 @@ done:
 
 void sl_vgl_close(sl_viewer_gl *g) {
     if (!g->win) return;
-    if (g->cl_tex) clReleaseMemObject((cl_mem)g->cl_tex);
+    sl_vgl_drop_cl_image(g);
     glDeleteTextures(1, &g->frame_tex);
     glDeleteTextures(1, &g->fbo_tex);
     glDeleteFramebuffers(1, &g->fbo);

@@ -40,10 +40,19 @@ typedef struct sl_viewer_gl {
 /* Opens the window (image w x h plus the panel). Fails with the "no display" message when
  * GLFW cannot reach an X server. */
 int sl_vgl_open(sl_viewer_gl *g, int w, int h, sl_err *e);
+/* ---- viewer_gl_cl.c: the OpenCL side of the upload ---- */
 /* Decides the upload path for this device (shared texture or PBO) and says why. */
 void sl_vgl_interop(sl_viewer_gl *g, sl_device *dev);
 /* Releases the shared CL image (before the device it belongs to is closed). */
 void sl_vgl_release_cl(sl_viewer_gl *g);
+/* cl_khr_gl_sharing: writes the frame into frame_tex through OpenCL (acquire, write, release),
+ * making the CL image at the first call. Returns 0, or -1 to fall back to the PBO (sharing is
+ * then off, upload_path says why). */
+int sl_vgl_upload_shared(sl_viewer_gl *g, const sl_fbuf *f);
+/* Releases the CL image made on frame_tex, if any (the texture's storage is about to change);
+ * sharing stays on. */
+void sl_vgl_drop_cl_image(sl_viewer_gl *g);
+/* ---- */
 /* Uploads a frame (any size: a preview is stretched) to frame_tex. */
 int sl_vgl_upload(sl_viewer_gl *g, const sl_fbuf *f, sl_err *e);
 /* Runs the display transform into the image-size framebuffer, then draws it into the window's

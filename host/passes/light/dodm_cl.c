@@ -1,6 +1,8 @@
 /* dodm_cl.c: enqueues kernels/dodm.cl (see kernels/dodm.h; C twin cpu/dodm.c). */
 #include "passes/light/dodm_cl.h"
 
+#include "cl/cl_args.h"
+
 #include <string.h>
 
 #define DODM_FILE "dodm.cl"
@@ -16,19 +18,21 @@ int slcl_dodm_tables_buf(sl_cl *cl, cl_mem bins, int w, int h, unsigned K, unsig
     /* the scans see the nl * K planes as one stack: rows = nl K h, columns = nl K w */
     cl_uint plane = (cl_uint)((size_t)w * h), kk = K, cw = (cl_uint)w, ch = (cl_uint)h,
             rows = (cl_uint)((size_t)nl * K * h), nk = K * nl, l = nl;
-    cl_int err = 0;
-    err |= clSetKernelArg(kc, 0, sizeof bins, &bins);
-    err |= clSetKernelArg(kc, 1, sizeof plane, &plane);
-    err |= clSetKernelArg(kc, 2, sizeof kk, &kk);
-    err |= clSetKernelArg(kc, 3, sizeof l, &l);
-    err |= clSetKernelArg(kr, 0, sizeof bins, &bins);
-    err |= clSetKernelArg(kr, 1, sizeof cw, &cw);
-    err |= clSetKernelArg(kr, 2, sizeof rows, &rows);
-    err |= clSetKernelArg(kcol, 0, sizeof bins, &bins);
-    err |= clSetKernelArg(kcol, 1, sizeof cw, &cw);
-    err |= clSetKernelArg(kcol, 2, sizeof ch, &ch);
-    err |= clSetKernelArg(kcol, 3, sizeof nk, &nk);
-    if (sl_cl_check(err, "dodm: kernel arguments", e)) return -1;
+    sl_cl_args a = sl_cl_args_begin(kc, e);
+    SL_CL_ARG(&a, 0, bins);
+    SL_CL_ARG(&a, 1, plane);
+    SL_CL_ARG(&a, 2, kk);
+    SL_CL_ARG(&a, 3, l);
+    a.kernel = kr;
+    SL_CL_ARG(&a, 0, bins);
+    SL_CL_ARG(&a, 1, cw);
+    SL_CL_ARG(&a, 2, rows);
+    a.kernel = kcol;
+    SL_CL_ARG(&a, 0, bins);
+    SL_CL_ARG(&a, 1, cw);
+    SL_CL_ARG(&a, 2, ch);
+    SL_CL_ARG(&a, 3, nk);
+    if (sl_cl_args_end(&a)) return -1;
     if (sl_cl_run1d(cl, kc, "dodm: sl_dodm_cumulate", (size_t)plane * nl, LOCAL, timer, e)) return -1;
     if (sl_cl_run1d(cl, kr, "dodm: sl_dodm_scan_rows", rows, LOCAL, timer, e)) return -1;
     return sl_cl_run1d(cl, kcol, "dodm: sl_dodm_scan_cols", (size_t)w * nk, LOCAL, timer, e);
@@ -79,19 +83,19 @@ int slcl_dodm_lookup(sl_cl *cl, const uint32_t *z0bits, const uint64_t *sat, int
     bt = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, n * sizeof *T, NULL, &err);
     if (sl_cl_check(err, "dodm: clCreateBuffer(T)", e)) goto done;
     cl_uint kk = K, nn = (cl_uint)n;
-    err = 0;
-    err |= clSetKernelArg(k, 0, sizeof bz, &bz);
-    err |= clSetKernelArg(k, 1, sizeof bs, &bs);
-    err |= clSetKernelArg(k, 2, sizeof w, &w);
-    err |= clSetKernelArg(k, 3, sizeof h, &h);
-    err |= clSetKernelArg(k, 4, sizeof kk, &kk);
-    err |= clSetKernelArg(k, 5, sizeof d, &d);
-    err |= clSetKernelArg(k, 6, sizeof rfac, &rfac);
-    err |= clSetKernelArg(k, 7, sizeof inv_scale, &inv_scale);
-    err |= clSetKernelArg(k, 8, sizeof bp, &bp);
-    err |= clSetKernelArg(k, 9, sizeof nn, &nn);
-    err |= clSetKernelArg(k, 10, sizeof bt, &bt);
-    if (sl_cl_check(err, "dodm: sl_dodm_lookup arguments", e)) goto done;
+    sl_cl_args a = sl_cl_args_begin(k, e);
+    SL_CL_ARG(&a, 0, bz);
+    SL_CL_ARG(&a, 1, bs);
+    SL_CL_ARG(&a, 2, w);
+    SL_CL_ARG(&a, 3, h);
+    SL_CL_ARG(&a, 4, kk);
+    SL_CL_ARG(&a, 5, d);
+    SL_CL_ARG(&a, 6, rfac);
+    SL_CL_ARG(&a, 7, inv_scale);
+    SL_CL_ARG(&a, 8, bp);
+    SL_CL_ARG(&a, 9, nn);
+    SL_CL_ARG(&a, 10, bt);
+    if (sl_cl_args_end(&a)) goto done;
     if (sl_cl_run1d(cl, k, "dodm: sl_dodm_lookup", n, LOCAL, NULL, e)) goto done;
     if (sl_cl_check(
             clEnqueueReadBuffer(sl_cl_queue(cl), bt, CL_TRUE, 0, n * sizeof *T, T, 0, NULL, NULL),
@@ -120,22 +124,22 @@ int slcl_dodm_lookup_lobes_buf(sl_cl *cl, cl_mem z0bits, cl_mem sat, int w, int 
     cl_uint kk = K, nn = (cl_uint)n, l = nl, l0 = lobe0, st = (cl_uint)stride;
     cl_int all = lobe == NULL;
     cl_mem lb = lobe ? lobe : pts; /* unread when all != 0 */
-    cl_int err = 0;
-    err |= clSetKernelArg(k, 0, sizeof z0bits, &z0bits);
-    err |= clSetKernelArg(k, 1, sizeof sat, &sat);
-    err |= clSetKernelArg(k, 2, sizeof w, &w);
-    err |= clSetKernelArg(k, 3, sizeof h, &h);
-    err |= clSetKernelArg(k, 4, sizeof kk, &kk);
-    err |= clSetKernelArg(k, 5, sizeof params, &params);
-    err |= clSetKernelArg(k, 6, sizeof views, &views);
-    err |= clSetKernelArg(k, 7, sizeof pts, &pts);
-    err |= clSetKernelArg(k, 8, sizeof lb, &lb);
-    err |= clSetKernelArg(k, 9, sizeof all, &all);
-    err |= clSetKernelArg(k, 10, sizeof nn, &nn);
-    err |= clSetKernelArg(k, 11, sizeof l, &l);
-    err |= clSetKernelArg(k, 12, sizeof l0, &l0);
-    err |= clSetKernelArg(k, 13, sizeof st, &st);
-    err |= clSetKernelArg(k, 14, sizeof T, &T);
-    if (sl_cl_check(err, "dodm: sl_dodm_lookup_lobes arguments", e)) return -1;
+    sl_cl_args a = sl_cl_args_begin(k, e);
+    SL_CL_ARG(&a, 0, z0bits);
+    SL_CL_ARG(&a, 1, sat);
+    SL_CL_ARG(&a, 2, w);
+    SL_CL_ARG(&a, 3, h);
+    SL_CL_ARG(&a, 4, kk);
+    SL_CL_ARG(&a, 5, params);
+    SL_CL_ARG(&a, 6, views);
+    SL_CL_ARG(&a, 7, pts);
+    SL_CL_ARG(&a, 8, lb);
+    SL_CL_ARG(&a, 9, all);
+    SL_CL_ARG(&a, 10, nn);
+    SL_CL_ARG(&a, 11, l);
+    SL_CL_ARG(&a, 12, l0);
+    SL_CL_ARG(&a, 13, st);
+    SL_CL_ARG(&a, 14, T);
+    if (sl_cl_args_end(&a)) return -1;
     return sl_cl_run1d(cl, k, "dodm: sl_dodm_lookup_lobes", work, LOCAL, timer, e);
 }

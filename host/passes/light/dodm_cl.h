@@ -4,7 +4,6 @@
 #define SL_DODM_CL_H
 
 #include "cl/clrt.h"
-#include "verify/checks/kernel_checks.h"
 
 #include <stdint.h>
 
@@ -25,8 +24,5 @@ int slcl_dodm_tables(sl_cl *cl, uint64_t *bins, int w, int h, unsigned K, double
 int slcl_dodm_lookup(sl_cl *cl, const uint32_t *z0bits, const uint64_t *sat, int w, int h,
                      unsigned K, float d, float rfac, float inv_scale, const float *pts, size_t n,
                      float *T, sl_err *e);
-
-/* `strandlight kernels` check: the whole DODM path (raster, tables, lookup) vs the C twin. */
-int slchk_dodm(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
 
 #endif

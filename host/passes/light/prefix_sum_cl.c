@@ -2,6 +2,7 @@
  * prefix_sum_cl.h for the two variants); the C twin is cpu/prefix_sum.c. */
 #include "passes/light/prefix_sum_cl.h"
 
+#include "cl/cl_args.h"
 #include "../cpu/prefix_sum.h"
 #include "../kernels/prefix_sum.h"
 
@@ -45,7 +46,7 @@ static int launch(sl_cl *cl, cl_kernel k, const char *name, int n, const size_t 
                   const void *const *vals, const size_t global[2], const size_t local[2],
                   sl_cl_timer *timer, sl_err *e) {
     for (int i = 0; i < n; i++)
-        if (sl_cl_check(clSetKernelArg(k, (cl_uint)i, sizes[i], vals[i]), name, e)) return -1;
+        if (sl_cl_set_arg(k, (cl_uint)i, sizes[i], vals[i], NULL, e)) return -1;
     cl_event ev = NULL;
     cl_int err = clEnqueueNDRangeKernel(sl_cl_queue(cl), k, 2, NULL, global, local, 0, NULL,
                                         timer ? &ev : NULL);

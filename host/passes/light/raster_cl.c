@@ -3,6 +3,7 @@
  * layer pass, for a batch of lobes whose maps are stacked in one buffer. */
 #include "passes/light/raster_cl.h"
 
+#include "cl/cl_args.h"
 #include "../kernels/raster.h"
 
 #include <string.h>
@@ -22,16 +23,16 @@ int slcl_raster_project_buf(sl_cl *cl, cl_mem pos, cl_mem seg, cl_mem hw, cl_mem
     if (nseg * nl > 0xffffffffu) return sl_fail(e, "raster: %zu segments is too many", nseg);
     if (nseg == 0) return 0;
     cl_uint n = (cl_uint)nseg, l = nl;
-    cl_int err = 0;
-    err |= clSetKernelArg(k, 0, sizeof pos, &pos);
-    err |= clSetKernelArg(k, 1, sizeof seg, &seg);
-    err |= clSetKernelArg(k, 2, sizeof hw, &hw);
-    err |= clSetKernelArg(k, 3, sizeof views, &views);
-    err |= clSetKernelArg(k, 4, sizeof n, &n);
-    err |= clSetKernelArg(k, 5, sizeof l, &l);
-    err |= clSetKernelArg(k, 6, sizeof mscale, &mscale);
-    err |= clSetKernelArg(k, 7, sizeof recs, &recs);
-    if (sl_cl_check(err, "raster: sl_raster_project_k arguments", e)) return -1;
+    sl_cl_args a = sl_cl_args_begin(k, e);
+    SL_CL_ARG(&a, 0, pos);
+    SL_CL_ARG(&a, 1, seg);
+    SL_CL_ARG(&a, 2, hw);
+    SL_CL_ARG(&a, 3, views);
+    SL_CL_ARG(&a, 4, n);
+    SL_CL_ARG(&a, 5, l);
+    SL_CL_ARG(&a, 6, mscale);
+    SL_CL_ARG(&a, 7, recs);
+    if (sl_cl_args_end(&a)) return -1;
     return sl_cl_run1d(cl, k, "raster: sl_raster_project_k", nseg * nl, LOCAL, timer, e);
 }
 
@@ -42,15 +43,15 @@ static int z0_min(sl_cl *cl, cl_mem src, cl_mem dst, int w, int h, unsigned nl, 
     int rc;
     if ((rc = sl_cl_get_kernel(cl, RASTER_FILE, "sl_raster_z0_min", RASTER_OPTS, &k, e))) return rc;
     cl_uint l = nl;
-    cl_int err = 0;
-    err |= clSetKernelArg(k, 0, sizeof src, &src);
-    err |= clSetKernelArg(k, 1, sizeof dst, &dst);
-    err |= clSetKernelArg(k, 2, sizeof w, &w);
-    err |= clSetKernelArg(k, 3, sizeof h, &h);
-    err |= clSetKernelArg(k, 4, sizeof l, &l);
-    err |= clSetKernelArg(k, 5, sizeof m, &m);
-    err |= clSetKernelArg(k, 6, sizeof dx, &dx);
-    if (sl_cl_check(err, "raster: sl_raster_z0_min arguments", e)) return -1;
+    sl_cl_args a = sl_cl_args_begin(k, e);
+    SL_CL_ARG(&a, 0, src);
+    SL_CL_ARG(&a, 1, dst);
+    SL_CL_ARG(&a, 2, w);
+    SL_CL_ARG(&a, 3, h);
+    SL_CL_ARG(&a, 4, l);
+    SL_CL_ARG(&a, 5, m);
+    SL_CL_ARG(&a, 6, dx);
+    if (sl_cl_args_end(&a)) return -1;
     return sl_cl_run1d(cl, k, "raster: sl_raster_z0_min", (size_t)w * h * nl, LOCAL, timer, e);
 }
 
@@ -80,16 +81,17 @@ int slcl_raster_buf(sl_cl *cl, cl_mem recs, size_t nseg, unsigned nl, int w, int
         return -1;
     if (timer) sl_cl_timer_add(timer, ev);
     if (nseg == 0) return 0;
-    cl_int err = 0;
-    err |= clSetKernelArg(kz, 0, sizeof recs, &recs);
-    err |= clSetKernelArg(kz, 1, sizeof n, &n);
-    err |= clSetKernelArg(kz, 2, sizeof l, &l);
-    err |= clSetKernelArg(kz, 3, sizeof w, &w);
-    err |= clSetKernelArg(kz, 4, sizeof h, &h);
-    err |= clSetKernelArg(kz, 5, sizeof z0bits, &z0bits);
-    if (sl_cl_check(err, "raster: sl_raster_z0 arguments", e)) return -1;
+    sl_cl_args a = sl_cl_args_begin(kz, e);
+    SL_CL_ARG(&a, 0, recs);
+    SL_CL_ARG(&a, 1, n);
+    SL_CL_ARG(&a, 2, l);
+    SL_CL_ARG(&a, 3, w);
+    SL_CL_ARG(&a, 4, h);
+    SL_CL_ARG(&a, 5, z0bits);
+    if (sl_cl_args_end(&a)) return -1;
     if (sl_cl_run1d(cl, kz, "raster: sl_raster_z0", nseg * nl, LOCAL, timer, e)) return -1;
     if (z0_radius > 0) { /* rows into a scratch buffer, columns back into z0bits */
+        cl_int err;
         cl_mem tmp = clCreateBuffer(sl_cl_context(cl), CL_MEM_READ_WRITE,
                                     nl * plane * sizeof(cl_uint), NULL, &err);
         if (sl_cl_check(err, "raster: clCreateBuffer(z0 scratch)", e)) return -1;
@@ -98,17 +100,17 @@ int slcl_raster_buf(sl_cl *cl, cl_mem recs, size_t nseg, unsigned nl, int w, int
         clReleaseMemObject(tmp); /* freed once the queued kernels using it have finished */
         if (rc) return rc;
     }
-    err = 0;
-    err |= clSetKernelArg(kl, 0, sizeof recs, &recs);
-    err |= clSetKernelArg(kl, 1, sizeof n, &n);
-    err |= clSetKernelArg(kl, 2, sizeof l, &l);
-    err |= clSetKernelArg(kl, 3, sizeof w, &w);
-    err |= clSetKernelArg(kl, 4, sizeof h, &h);
-    err |= clSetKernelArg(kl, 5, sizeof kk, &kk);
-    err |= clSetKernelArg(kl, 6, sizeof d, &d);
-    err |= clSetKernelArg(kl, 7, sizeof z0bits, &z0bits);
-    err |= clSetKernelArg(kl, 8, sizeof bins, &bins);
-    if (sl_cl_check(err, "raster: sl_raster_layers arguments", e)) return -1;
+    a = sl_cl_args_begin(kl, e);
+    SL_CL_ARG(&a, 0, recs);
+    SL_CL_ARG(&a, 1, n);
+    SL_CL_ARG(&a, 2, l);
+    SL_CL_ARG(&a, 3, w);
+    SL_CL_ARG(&a, 4, h);
+    SL_CL_ARG(&a, 5, kk);
+    SL_CL_ARG(&a, 6, d);
+    SL_CL_ARG(&a, 7, z0bits);
+    SL_CL_ARG(&a, 8, bins);
+    if (sl_cl_args_end(&a)) return -1;
     return sl_cl_run1d(cl, kl, "raster: sl_raster_layers", nseg * nl, LOCAL, timer, e);
 }
 

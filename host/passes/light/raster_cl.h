@@ -4,7 +4,6 @@
 #define SL_RASTER_CL_H
 
 #include "cl/clrt.h"
-#include "verify/checks/kernel_checks.h"
 
 #include <stdint.h>
 
@@ -24,8 +23,5 @@ int slcl_raster_buf(sl_cl *cl, cl_mem recs, size_t nseg, unsigned nl, int w, int
 /* One lobe from and to host memory; kernel_s (may be NULL) gets the kernel time. */
 int slcl_raster(sl_cl *cl, const float *recs, size_t nseg, int w, int h, unsigned K, float d,
                 int z0_radius, uint32_t *z0bits, uint64_t *bins, double *kernel_s, sl_err *e);
-
-/* `strandlight kernels` check: raster.cl vs cpu/raster.c on procedural hair (bit-identical). */
-int slchk_raster(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
 
 #endif

@@ -2,6 +2,8 @@
  * kernel's arguments, run one work-item per row, read out back, release everything. */
 #include "passes/shade/fiber_cl.h"
 
+#include "cl/cl_args.h"
+
 #include <string.h>
 
 #include "fiber_c.h"
@@ -30,13 +32,13 @@ static int run_rows(sl_cl *cl, const char *name, const sl_fiber_params *fp, size
         return -1;
     }
     cl_uint nn = (cl_uint)n, ww = (cl_uint)out_w, a = 0;
-    err = CL_SUCCESS;
-    if (fp) err = clSetKernelArg(k, a++, sizeof *fp, fp);
-    if (err == CL_SUCCESS) err = clSetKernelArg(k, a++, sizeof nn, &nn);
-    if (err == CL_SUCCESS) err = clSetKernelArg(k, a++, sizeof bin, &bin);
-    if (err == CL_SUCCESS) err = clSetKernelArg(k, a++, sizeof bout, &bout);
-    if (err == CL_SUCCESS && width_arg) err = clSetKernelArg(k, a++, sizeof ww, &ww);
-    rc = sl_cl_check(err, "clSetKernelArg", e);
+    sl_cl_args args = sl_cl_args_begin(k, e);
+    if (fp) SL_CL_ARG(&args, a++, *fp);
+    SL_CL_ARG(&args, a++, nn);
+    SL_CL_ARG(&args, a++, bin);
+    SL_CL_ARG(&args, a++, bout);
+    if (width_arg) SL_CL_ARG(&args, a++, ww);
+    rc = sl_cl_args_end(&args);
     if (!rc) {
         size_t local = 64, global = (n + local - 1) / local * local;
         size_t maxwg = sl_cl_max_work_group_size(cl);

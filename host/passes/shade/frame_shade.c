@@ -201,31 +201,8 @@ static void eval_rows_c(const shade_common *sc, rowbuf *b) {
 /* Table lookups of n rows on the OpenCL device, the table resident (uploaded once per table, kept
  * in r->ren_mem); rows and results travel per block. Returns 0, -1 or SL_CL_EKERNEL. */
 static int ren_cl(sl_renderer *r, size_t n, const float *in, float *out, sl_err *e) {
-    sl_cl *cl = r->dev->cl;
-    cl_context ctx = sl_cl_context(cl);
-    cl_int err = CL_SUCCESS;
-    if (!r->ren_mem) {
-        r->ren_mem = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                    r->ren.n_floats * sizeof(float), r->ren.T, &err);
-        if (sl_cl_check(err, "clCreateBuffer (srbf table)", e)) {
-            r->ren_mem = NULL;
-            return -1;
-        }
-    }
-    cl_mem bi = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * 5 * sizeof(float),
-                               (void *)in, &err),
-           bo = NULL;
-    if (err == CL_SUCCESS)
-        bo = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, n * 9 * sizeof(float), NULL, &err);
-    int rc = sl_cl_check(err, "clCreateBuffer", e);
-    if (!rc) rc = slcl_srbf_ren_enqueue(cl, &r->ren.dims, r->ren_mem, n, bi, bo, e);
-    if (!rc)
-        rc = sl_cl_check(clEnqueueReadBuffer(sl_cl_queue(cl), bo, CL_TRUE, 0, n * 9 * sizeof(float),
-                                             out, 0, NULL, NULL),
-                         "clEnqueueReadBuffer", e);
-    if (bi) clReleaseMemObject(bi);
-    if (bo) clReleaseMemObject(bo);
-    return rc;
+    return slcl_srbf_ren_rows(r->dev->cl, &r->ren, &r->ren_mem, "clCreateBuffer (srbf table)", n,
+                              in, out, e);
 }
 
 /* The SRBF response of b's rows on the OpenCL device (the caller falls back to eval_rows_c when

@@ -1,8 +1,8 @@
 /* srbf_cl.c: OpenCL driver of the SRBF response (see srbf_cl.h). */
 #include "passes/shade/srbf_cl.h"
 
+#include "cl/cl_args.h"
 #include "srbf_c.h"
-#include "verify/report/srbf_sample.h"
 #include "srbf_xu.h"
 
 #include <math.h>
@@ -40,12 +40,16 @@ static int srbf_buffers(sl_cl *cl, const slcl_srbf_job *j, cl_mem *buf, int *nbu
 static int srbf_args(cl_kernel k, const sl_fiber_params *fp, const slcl_srbf_job *j,
                      const cl_mem *buf, sl_err *e) {
     cl_uint nn = (cl_uint)j->n, a = 2;
-    cl_int err = clSetKernelArg(k, 0, sizeof *fp, fp);
-    if (err == CL_SUCCESS) err = clSetKernelArg(k, 1, sizeof nn, &nn);
-    for (int c = 0, nb = 0, ni = 0; j->args[c] && err == CL_SUCCESS; c++, a++)
-        err = j->args[c] == 'b' ? clSetKernelArg(k, a, sizeof(cl_mem), &buf[nb++])
-                                : clSetKernelArg(k, a, sizeof(cl_int), &j->ints[ni++]);
-    return sl_cl_check(err, "clSetKernelArg", e);
+    sl_cl_args args = sl_cl_args_begin(k, e);
+    SL_CL_ARG(&args, 0, *fp);
+    SL_CL_ARG(&args, 1, nn);
+    for (int c = 0, nb = 0, ni = 0; j->args[c]; c++, a++) {
+        if (j->args[c] == 'b')
+            SL_CL_ARG(&args, a, buf[nb]), nb++;
+        else
+            SL_CL_ARG(&args, a, j->ints[ni]), ni++;
+    }
+    return sl_cl_args_end(&args);
 }
 
 int slcl_srbf_launch(sl_cl *cl, const sl_fiber_params *fp, const slcl_srbf_job *j, float *out,
@@ -109,54 +113,4 @@ int slcl_srbf_rgb_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tabl
                         int segments, size_t n, const float *in, const float *sigma_a, float *out,
                         sl_err *e) {
     return slcl_srbf_rgb_batch_ex(cl, fp, t, method, segments, n, in, sigma_a, out, 0, e);
-}
-
-/* `strandlight kernels --only srbf`: srbf_eval.cl against the C twin on the stiff sample's
- * configurations (default material), --method fast then xu (m = 4) in one output vector. */
-int slchk_srbf(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e) {
-    size_t n = o->size > 0 ? (size_t)o->size : 4096;
-    int reps = o->reps > 0 ? o->reps : 3;
-    snprintf(r->problem, sizeof r->problem, "%zu lobes x (fast, xu m=4)", n);
-    /* Same float code and tables; only the transcendental functions (exp, log, asin, sqrt) of the
-     * device's math library differ by an ulp or two, which the sums and bilinear weights carry
-     * through: relative 1e-3, or 1e-6 absolute for responses near 0 (I is O(1e-3..1)). */
-    r->tol_abs = 1e-6;
-    r->tol_rel = 1e-3;
-    snprintf(r->note, sizeof r->note,
-             "same float code and tables; device exp/log/asin differ by ulps");
-    sl_srbf_config *cfg = sl_malloc(n * sizeof *cfg);
-    float *in = sl_malloc(n * 5 * sizeof *in), *a = sl_malloc(n * 8 * sizeof *a),
-          *b = sl_malloc(n * 8 * sizeof *b);
-    sl_srbf_sample(SL_SRBF_SAMPLE_SEED, (int)n, cfg);
-    for (size_t i = 0; i < n; i++)
-        sl_srbf_config_row(cfg + i, in + 5 * i);
-    sl_material m;
-    sl_material_default(&m);
-    sl_fiber_params fp;
-    sl_material_to_fiber(&m, 0, &fp);
-    sl_srbf_tables t;
-    int rc = sl_srbf_tables_get(&t, 0, e);
-    r->c_s = r->cl_s = r->cl_wall_s = INFINITY;
-    /* untimed first run: program build */
-    if (!rc) rc = slcl_srbf_batch(cl, &fp, &t, SL_SRBF_METHOD_FAST, 4, n, in, a, e);
-    for (int k = 0; k < reps && !rc; k++) {
-        double t0 = sl_now();
-        rc = slcl_srbf_batch(cl, &fp, &t, SL_SRBF_METHOD_FAST, 4, n, in, a, e);
-        if (!rc) rc = slcl_srbf_batch(cl, &fp, &t, SL_SRBF_METHOD_XU, 4, n, in, a + 4 * n, e);
-        double wall = sl_now() - t0;
-        if (wall < r->cl_wall_s) r->cl_wall_s = r->cl_s = wall;
-        t0 = sl_now();
-        slc_srbf_batch(&fp, t.C, t.H, SL_SRBF_METHOD_FAST, 4, n, in, b);
-        slc_srbf_batch(&fp, t.C, t.H, SL_SRBF_METHOD_XU, 4, n, in, b + 4 * n);
-        double c = sl_now() - t0;
-        if (c < r->c_s) r->c_s = c;
-    }
-    r->cl_s_is_device = 0;
-    if (!rc) sl_kernel_compare(a, b, n * 8, r);
-    if (t.C) sl_srbf_tables_free(&t);
-    free(cfg);
-    free(in);
-    free(a);
-    free(b);
-    return rc;
 }

@@ -8,7 +8,6 @@
 
 #include "cl/clrt.h"
 #include "fiber_params.h"
-#include "verify/checks/kernel_checks.h"
 #include "passes/shade/srbf_tables.h"
 
 /* in: 5 floats per row (theta_o, phi_o, theta_j, phi_j, lambda); out: I_R, I_TT, I_TRT, I.
@@ -53,9 +52,5 @@ typedef struct slcl_srbf_job {
  * releases the buffers whatever happened. Returns 0, -1 (e set) or SL_CL_EKERNEL. */
 int slcl_srbf_launch(sl_cl *cl, const sl_fiber_params *fp, const slcl_srbf_job *j, float *out,
                      sl_err *e);
-
-/* The kernel check of `strandlight kernels` (host/verify/checks/kernel_checks.c): srbf_eval.cl vs the C twin
- * (o->size: number of lobes, default 4096). */
-int slchk_srbf(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
 
 #endif

@@ -7,8 +7,7 @@
 #include <stdio.h>
 
 void sl_frame_free_ren(sl_renderer *r) {
-    if (r->ren_mem) clReleaseMemObject(r->ren_mem);
-    r->ren_mem = NULL;
+    slcl_srbf_ren_table_release(&r->ren_mem);
     if (r->have_ren) sl_srbf_ren_free(&r->ren);
     r->have_ren = 0;
 }

@@ -1,11 +1,11 @@
 /* srbf_ren.c: builds, checks and caches the Ren 2010 Sec. 4 SRBF response table (see srbf_ren.h,
  * kernels/srbf_ren_lookup.h for the axes, docs/srbf_ren.md for the choices and measurements),
- * and runs its OpenCL lookup.
+ * and evaluates it.
  *
  * Every node is one `fast` evaluation (kernels/srbf_fast.h) per mode and channel: the modes have
  * their own warped h axis, so a node of the TT block is not a node of the R block. Rows go to
  * slcl_srbf_batch (device) or slc_srbf_batch (C, split over threads) in chunks, which drive the
- * progress bar. */
+ * progress bar. The OpenCL lookup is srbf_ren_cl.c. */
 #include "passes/shade/srbf_ren.h"
 
 #include "base/disk_cache.h"
@@ -493,55 +493,7 @@ void sl_srbf_ren_free(sl_srbf_ren *t) {
     t->T = NULL;
 }
 
-/* ---- OpenCL lookup and the eval helper ---- */
-
-int slcl_srbf_ren_enqueue(sl_cl *cl, const sl_srbf_ren_dims *d, cl_mem T, size_t n, cl_mem in,
-                          cl_mem out, sl_err *e) {
-    if (n == 0) return 0;
-    if (n > 0xffffffffu / 9) return sl_fail(e, "srbf table: too many rows (%zu)", n);
-    cl_kernel k;
-    int rc = sl_cl_get_kernel(cl, "srbf_ren.cl", "sl_srbf_ren_eval", "", &k, e);
-    if (rc) return rc;
-    cl_uint nn = (cl_uint)n;
-    cl_int err = clSetKernelArg(k, 0, sizeof *d, d);
-    if (err == CL_SUCCESS) err = clSetKernelArg(k, 1, sizeof nn, &nn);
-    if (err == CL_SUCCESS) err = clSetKernelArg(k, 2, sizeof(cl_mem), &in);
-    if (err == CL_SUCCESS) err = clSetKernelArg(k, 3, sizeof(cl_mem), &out);
-    if (err == CL_SUCCESS) err = clSetKernelArg(k, 4, sizeof(cl_mem), &T);
-    if (sl_cl_check(err, "clSetKernelArg", e)) return -1;
-    size_t local = 64, global;
-    size_t maxwg = sl_cl_max_work_group_size(cl);
-    if (maxwg && local > maxwg) local = maxwg;
-    global = (n + local - 1) / local * local;
-    return sl_cl_check(
-        clEnqueueNDRangeKernel(sl_cl_queue(cl), k, 1, NULL, &global, &local, 0, NULL, NULL),
-        "sl_srbf_ren_eval", e);
-}
-
-int slcl_srbf_ren_batch(sl_cl *cl, const sl_srbf_ren *t, size_t n, const float *in, float *out,
-                        sl_err *e) {
-    if (n == 0) return 0;
-    if (n > 0xffffffffu / 9) return sl_fail(e, "srbf table: too many rows (%zu)", n);
-    cl_context ctx = sl_cl_context(cl);
-    cl_int err;
-    cl_mem buf[3] = {NULL, NULL, NULL};
-    buf[0] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * 5 * sizeof(float),
-                            (void *)in, &err);
-    if (err == CL_SUCCESS)
-        buf[1] = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, n * 9 * sizeof(float), NULL, &err);
-    if (err == CL_SUCCESS)
-        buf[2] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                t->n_floats * sizeof(float), t->T, &err);
-    int rc = sl_cl_check(err, "clCreateBuffer", e);
-    if (!rc) rc = slcl_srbf_ren_enqueue(cl, &t->dims, buf[2], n, buf[0], buf[1], e);
-    if (!rc)
-        rc = sl_cl_check(clEnqueueReadBuffer(sl_cl_queue(cl), buf[1], CL_TRUE, 0,
-                                             n * 9 * sizeof(float), out, 0, NULL, NULL),
-                         "clEnqueueReadBuffer", e);
-    for (int a = 0; a < 3; a++)
-        if (buf[a]) clReleaseMemObject(buf[a]);
-    return rc;
-}
+/* ---- the eval helper (the OpenCL lookup: srbf_ren_cl.c) ---- */
 
 int sl_srbf_ren_eval(sl_cl *cl, const sl_srbf_ren *t, int ch, size_t n, const float *in, float *out,
                      sl_err *e) {

@@ -58,6 +58,8 @@ double sl_srbf_ren_build_rows(const sl_material *m, const sl_srbf_ren_params *p)
 uint64_t sl_srbf_ren_material_hash(const sl_material *m);
 int sl_srbf_ren_matches(const sl_srbf_ren *t, const sl_material *m);
 
+/* ---- OpenCL (srbf_ren_cl.c) ---- */
+
 /* OpenCL twin of slc_srbf_ren_batch (kernels/srbf_ren.cl): uploads rows and table, one
  * work-item per row, blocking read. Returns 0, -1 (e set) or SL_CL_EKERNEL. */
 int slcl_srbf_ren_batch(sl_cl *cl, const sl_srbf_ren *t, size_t n, const float *in, float *out,
@@ -68,6 +70,14 @@ int slcl_srbf_ren_batch(sl_cl *cl, const sl_srbf_ren *t, size_t n, const float *
  * in: 5 floats per row, out: 9. Returns 0, -1 or SL_CL_EKERNEL. */
 int slcl_srbf_ren_enqueue(sl_cl *cl, const sl_srbf_ren_dims *d, cl_mem T, size_t n, cl_mem in,
                           cl_mem out, sl_err *e);
+
+/* Lookups of n rows with t resident on the device: *table (NULL at first) gets t's upload and
+ * keeps it for the next calls (table_what names its upload's errors); rows (in: 5 floats each)
+ * and results (out: 9) travel per call, blocking read. Returns 0, -1 or SL_CL_EKERNEL. */
+int slcl_srbf_ren_rows(sl_cl *cl, const sl_srbf_ren *t, cl_mem *table, const char *table_what,
+                       size_t n, const float *in, float *out, sl_err *e);
+/* Releases a table slcl_srbf_ren_rows uploaded (if any) and clears *table. */
+void slcl_srbf_ren_table_release(cl_mem *table);
 
 /* `eval srbf --method table` on a float backend (cl NULL: C): out gets 4 floats per row for
  * colour channel ch: I_R, I_TT, I_TRT, I (the columns of `eval srbf`). */

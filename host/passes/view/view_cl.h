@@ -4,7 +4,6 @@
 #define SL_VIEW_CL_H
 
 #include "cl/clrt.h"
-#include "verify/checks/kernel_checks.h"
 #include "view.h"
 
 /* Fills kbuf (K per pixel) and count from the fragment list l (list order kept per pixel);
@@ -17,12 +16,6 @@ int slcl_kbuffer_build(sl_cl *cl, const slc_frag_list *l, int w, int h, int K, s
  * launch + finish). */
 int slcl_kbuffer_build_ex(sl_cl *cl, const slc_frag_list *l, int w, int h, int K, int specialised,
                           sl_kfrag *kbuf, uint8_t *count, size_t *merges, double *kernel_s,
-                          sl_err *e);
-
-/* `strandlight kernels` checks (host/verify/checks/kernel_checks.c): the -DSL_KB_K build and the generic one
- * against slc_kbuffer_build, bit-exact, on typical or (o->extreme) extreme fragments. */
-int slchk_kbuffer(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
-int slchk_kbuffer_generic(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r,
                           sl_err *e);
 
 #endif

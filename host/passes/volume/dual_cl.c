@@ -1,6 +1,7 @@
 /* dual_cl.c: see dual_cl.h. */
 #include "passes/volume/dual_cl.h"
 
+#include "cl/cl_args.h"
 #include "dual_material.h"
 
 #include <stdlib.h>
@@ -15,8 +16,13 @@ int slcl_dual_table(sl_cl *cl, const sl_fiber_params *fp, float *tab, sl_err *e)
     cl_mem b = clCreateBuffer(sl_cl_context(cl), CL_MEM_WRITE_ONLY,
                               SL_DUAL_TABLE_FLOATS * sizeof(float), NULL, &err);
     if (sl_cl_check(err, "dual: clCreateBuffer", e)) return -1;
-    err = clSetKernelArg(k, 0, sizeof *fp, fp);
-    if (!err) err = clSetKernelArg(k, 1, sizeof b, &b);
+    sl_cl_args args = sl_cl_args_begin(k, e);
+    SL_CL_ARG(&args, 0, *fp);
+    SL_CL_ARG(&args, 1, b);
+    if (sl_cl_args_end(&args)) {
+        clReleaseMemObject(b);
+        return -1;
+    }
     size_t local = LOCAL, global = sl_cl_round_up(SL_DUAL_N, LOCAL);
     if (!err)
         err = clEnqueueNDRangeKernel(sl_cl_queue(cl), k, 1, NULL, &global, &local, 0, NULL, NULL);
@@ -51,17 +57,22 @@ int slcl_ms_material_batch(sl_cl *cl, const sl_fiber_params *fp, size_t n, const
                             (void *)in, &err);
     if (!err) bo = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, 9 * n * sizeof(float), NULL, &err);
     cl_uint nn = (cl_uint)n;
-    if (!err) err = clSetKernelArg(k, 0, sizeof bt, &bt);
-    if (!err) err = clSetKernelArg(k, 1, sizeof nn, &nn);
-    if (!err) err = clSetKernelArg(k, 2, sizeof bi, &bi);
-    if (!err) err = clSetKernelArg(k, 3, sizeof bo, &bo);
+    int args_failed = 0;
+    if (!err) {
+        sl_cl_args args = sl_cl_args_begin(k, e);
+        SL_CL_ARG(&args, 0, bt);
+        SL_CL_ARG(&args, 1, nn);
+        SL_CL_ARG(&args, 2, bi);
+        SL_CL_ARG(&args, 3, bo);
+        args_failed = sl_cl_args_end(&args);
+    }
     size_t local = LOCAL, global = sl_cl_round_up(n, LOCAL);
-    if (!err)
+    if (!err && !args_failed)
         err = clEnqueueNDRangeKernel(sl_cl_queue(cl), k, 1, NULL, &global, &local, 0, NULL, NULL);
-    if (!err)
+    if (!err && !args_failed)
         err = clEnqueueReadBuffer(sl_cl_queue(cl), bo, CL_TRUE, 0, 9 * n * sizeof(float), out, 0,
                                   NULL, NULL);
-    rc = sl_cl_check(err, "ms-material: opencl", e);
+    rc = args_failed ? -1 : sl_cl_check(err, "ms-material: opencl", e);
     if (bt) clReleaseMemObject(bt);
     if (bi) clReleaseMemObject(bi);
     if (bo) clReleaseMemObject(bo);

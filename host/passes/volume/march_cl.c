@@ -3,6 +3,7 @@
  * (vertex, lobe). */
 #include "passes/volume/march_cl.h"
 
+#include "cl/cl_args.h"
 #include "march.h"
 
 #include <string.h>
@@ -39,26 +40,26 @@ int slcl_march(sl_cl *cl, const float *vox, const int n[3], const float lo[3], f
     if (sl_cl_check(err, "march: clCreateBuffer", e)) goto done;
     cl_int nx = n[0], ny = n[1], nz = n[2], cp = paths;
     cl_uint nv = (cl_uint)nverts, nl = (cl_uint)nlobes, sd = seed;
-    err = 0;
-    err |= clSetKernelArg(k, 0, sizeof in[0], &in[0]);
-    err |= clSetKernelArg(k, 1, sizeof nx, &nx);
-    err |= clSetKernelArg(k, 2, sizeof ny, &ny);
-    err |= clSetKernelArg(k, 3, sizeof nz, &nz);
-    err |= clSetKernelArg(k, 4, sizeof(float), &lo[0]);
-    err |= clSetKernelArg(k, 5, sizeof(float), &lo[1]);
-    err |= clSetKernelArg(k, 6, sizeof(float), &lo[2]);
-    err |= clSetKernelArg(k, 7, sizeof h, &h);
-    err |= clSetKernelArg(k, 8, sizeof in[1], &in[1]);
-    err |= clSetKernelArg(k, 9, sizeof in[2], &in[2]);
-    err |= clSetKernelArg(k, 10, sizeof nv, &nv);
-    err |= clSetKernelArg(k, 11, sizeof in[3], &in[3]);
-    err |= clSetKernelArg(k, 12, sizeof nl, &nl);
-    err |= clSetKernelArg(k, 13, sizeof cp, &cp);
-    err |= clSetKernelArg(k, 14, sizeof sd, &sd);
-    err |= clSetKernelArg(k, 15, sizeof in[4], &in[4]);
-    err |= clSetKernelArg(k, 16, sizeof bT, &bT);
-    err |= clSetKernelArg(k, 17, sizeof bS, &bS);
-    if (sl_cl_check(err, "march: kernel arguments", e)) goto done;
+    sl_cl_args a = sl_cl_args_begin(k, e);
+    SL_CL_ARG(&a, 0, in[0]);
+    SL_CL_ARG(&a, 1, nx);
+    SL_CL_ARG(&a, 2, ny);
+    SL_CL_ARG(&a, 3, nz);
+    SL_CL_ARG(&a, 4, lo[0]);
+    SL_CL_ARG(&a, 5, lo[1]);
+    SL_CL_ARG(&a, 6, lo[2]);
+    SL_CL_ARG(&a, 7, h);
+    SL_CL_ARG(&a, 8, in[1]);
+    SL_CL_ARG(&a, 9, in[2]);
+    SL_CL_ARG(&a, 10, nv);
+    SL_CL_ARG(&a, 11, in[3]);
+    SL_CL_ARG(&a, 12, nl);
+    SL_CL_ARG(&a, 13, cp);
+    SL_CL_ARG(&a, 14, sd);
+    SL_CL_ARG(&a, 15, in[4]);
+    SL_CL_ARG(&a, 16, bT);
+    SL_CL_ARG(&a, 17, bS);
+    if (sl_cl_args_end(&a)) goto done;
     size_t local = LOCAL, global = (nout + LOCAL - 1) / LOCAL * LOCAL;
     sl_cl_timer t;
     sl_cl_timer_start(&t, cl);

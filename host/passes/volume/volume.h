@@ -81,16 +81,4 @@ int sl_march_build(sl_device *dev, const sl_voxel_grid *g, const sl_dual_tables 
 void sl_ftex_lookup(const sl_ftex *f, int lobe, const double p[3], float T[3], float sigma[3]);
 void sl_ftex_free(sl_ftex *f);
 
-/* Checks registered in host/verify/checks/kernel_checks.c (`strandlight kernels --only voxel|march|ms|dual`). */
-struct sl_kernel_check_opts;
-struct sl_kernel_check_result;
-int slchk_voxel(sl_cl *cl, const struct sl_kernel_check_opts *o, struct sl_kernel_check_result *r,
-                sl_err *e);
-int slchk_march(sl_cl *cl, const struct sl_kernel_check_opts *o, struct sl_kernel_check_result *r,
-                sl_err *e);
-int slchk_ms_response(sl_cl *cl, const struct sl_kernel_check_opts *o,
-                      struct sl_kernel_check_result *r, sl_err *e);
-int slchk_dual_table(sl_cl *cl, const struct sl_kernel_check_opts *o,
-                     struct sl_kernel_check_result *r, sl_err *e);
-
 #endif

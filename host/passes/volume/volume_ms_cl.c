@@ -1,6 +1,7 @@
 /* volume_ms_cl.c: see volume_ms_cl.h. */
 #include "passes/volume/volume_ms_cl.h"
 
+#include "cl/cl_args.h"
 #include "ms_table.h"
 
 #define LOCAL 64u
@@ -35,19 +36,24 @@ static int rows(sl_cl *cl, const sl_volume_ms *ms, int ch, int exact, size_t n, 
                               (void *)in, &err);
     if (!err) b[3] = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, 2 * n * sizeof(float), NULL, &err);
     cl_uint nn = (cl_uint)n, a = 0;
-    if (!err) err = clSetKernelArg(k, a++, sizeof ms->fp[ch], &ms->fp[ch]);
-    if (!err) err = clSetKernelArg(k, a++, sizeof b[0], &b[0]);
-    if (!err && exact) err = clSetKernelArg(k, a++, sizeof b[1], &b[1]);
-    if (!err) err = clSetKernelArg(k, a++, sizeof nn, &nn);
-    if (!err) err = clSetKernelArg(k, a++, sizeof b[2], &b[2]);
-    if (!err) err = clSetKernelArg(k, a++, sizeof b[3], &b[3]);
+    int args_failed = 0;
+    if (!err) {
+        sl_cl_args args = sl_cl_args_begin(k, e);
+        SL_CL_ARG(&args, a++, ms->fp[ch]);
+        SL_CL_ARG(&args, a++, b[0]);
+        if (exact) SL_CL_ARG(&args, a++, b[1]);
+        SL_CL_ARG(&args, a++, nn);
+        SL_CL_ARG(&args, a++, b[2]);
+        SL_CL_ARG(&args, a++, b[3]);
+        args_failed = sl_cl_args_end(&args);
+    }
     size_t local = LOCAL, global = (n + LOCAL - 1) / LOCAL * LOCAL;
-    if (!err)
+    if (!err && !args_failed)
         err = clEnqueueNDRangeKernel(sl_cl_queue(cl), k, 1, NULL, &global, &local, 0, NULL, NULL);
-    if (!err)
+    if (!err && !args_failed)
         err = clEnqueueReadBuffer(sl_cl_queue(cl), b[3], CL_TRUE, 0, 2 * n * sizeof(float), out, 0,
                                   NULL, NULL);
-    rc = sl_cl_check(err, "ms response: opencl", e);
+    rc = args_failed ? -1 : sl_cl_check(err, "ms response: opencl", e);
     for (int i = 0; i < 4; i++)
         if (b[i]) clReleaseMemObject(b[i]);
     return rc;

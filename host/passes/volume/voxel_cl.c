@@ -2,6 +2,7 @@
  * accumulation pass (one work-item per segment, 64-bit atomics) then the per-voxel finalize. */
 #include "passes/volume/voxel_cl.h"
 
+#include "cl/cl_args.h"
 #include "voxel.h"
 
 #include <string.h>
@@ -45,24 +46,25 @@ int slcl_voxelize(sl_cl *cl, const float *segs, size_t nseg, const int n[3], con
     cl_uint ns = (cl_uint)nseg, nv = (cl_uint)nvox;
     cl_int nx = n[0], ny = n[1], nz = n[2];
     float inv_scale = 1.0f / scale;
-    err = 0;
-    err |= clSetKernelArg(ka, 0, sizeof bs, &bs);
-    err |= clSetKernelArg(ka, 1, sizeof ns, &ns);
-    err |= clSetKernelArg(ka, 2, sizeof nx, &nx);
-    err |= clSetKernelArg(ka, 3, sizeof ny, &ny);
-    err |= clSetKernelArg(ka, 4, sizeof nz, &nz);
-    err |= clSetKernelArg(ka, 5, sizeof(float), &lo[0]);
-    err |= clSetKernelArg(ka, 6, sizeof(float), &lo[1]);
-    err |= clSetKernelArg(ka, 7, sizeof(float), &lo[2]);
-    err |= clSetKernelArg(ka, 8, sizeof h, &h);
-    err |= clSetKernelArg(ka, 9, sizeof scale, &scale);
-    err |= clSetKernelArg(ka, 10, sizeof ba, &ba);
-    err |= clSetKernelArg(kf, 0, sizeof ba, &ba);
-    err |= clSetKernelArg(kf, 1, sizeof nv, &nv);
-    err |= clSetKernelArg(kf, 2, sizeof h, &h);
-    err |= clSetKernelArg(kf, 3, sizeof inv_scale, &inv_scale);
-    err |= clSetKernelArg(kf, 4, sizeof bo, &bo);
-    if (sl_cl_check(err, "voxelize: kernel arguments", e)) goto done;
+    sl_cl_args a = sl_cl_args_begin(ka, e);
+    SL_CL_ARG(&a, 0, bs);
+    SL_CL_ARG(&a, 1, ns);
+    SL_CL_ARG(&a, 2, nx);
+    SL_CL_ARG(&a, 3, ny);
+    SL_CL_ARG(&a, 4, nz);
+    SL_CL_ARG(&a, 5, lo[0]);
+    SL_CL_ARG(&a, 6, lo[1]);
+    SL_CL_ARG(&a, 7, lo[2]);
+    SL_CL_ARG(&a, 8, h);
+    SL_CL_ARG(&a, 9, scale);
+    SL_CL_ARG(&a, 10, ba);
+    a.kernel = kf;
+    SL_CL_ARG(&a, 0, ba);
+    SL_CL_ARG(&a, 1, nv);
+    SL_CL_ARG(&a, 2, h);
+    SL_CL_ARG(&a, 3, inv_scale);
+    SL_CL_ARG(&a, 4, bo);
+    if (sl_cl_args_end(&a)) goto done;
     size_t local = LOCAL, global = sl_cl_round_up(nseg ? nseg : 1, LOCAL);
     if (nseg) {
         if (sl_cl_check(clEnqueueNDRangeKernel(q, ka, 1, NULL, &global, &local, 0, NULL, &ev),

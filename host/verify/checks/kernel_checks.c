@@ -4,11 +4,6 @@
 
 #include "../cpu/prefix_sum.h"
 #include "passes/light/prefix_sum_cl.h"
-#include "passes/light/dodm_cl.h"   /* slchk_dodm (shadow) */
-#include "passes/light/raster_cl.h" /* slchk_raster (shadow) */
-#include "passes/shade/srbf_cl.h"   /* slchk_srbf (srbf) */
-#include "passes/view/view_cl.h"   /* slchk_kbuffer, slchk_kbuffer_generic (frame) */
-#include "passes/volume/volume.h"    /* slchk_voxel, slchk_march (volume) */
 
 #include <math.h>
 #include <stdlib.h>

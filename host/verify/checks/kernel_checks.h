@@ -1,7 +1,9 @@
 /* kernel_checks.h: the registry of "OpenCL kernel vs its C twin" checks that `strandlight
  * kernels` runs. To add one: write `int slchk_NAME(sl_cl *cl, const sl_kernel_check_opts *o,
- * sl_kernel_check_result *r, sl_err *e)` next to your driver (declare it in your header) and add
- * a line to the table in host/verify/checks/kernel_checks.c (docs/opencl.md, "Adding a kernel pair"). */
+ * sl_kernel_check_result *r, sl_err *e)` in host/verify/checks/ (the <pass>_check.c of its
+ * driver), declare it at the end of this header and add a line to the table in
+ * host/verify/checks/kernel_checks.c (docs/opencl.md, "Adding a kernel pair"). Verification
+ * lives here only: no pass driver includes this header. */
 #ifndef SL_KERNEL_CHECKS_H
 #define SL_KERNEL_CHECKS_H
 
@@ -61,9 +63,28 @@ void sl_kernel_check_fill(float *x, size_t n, unsigned long long seed, float lo,
 int sl_kernel_extreme(sl_cl *cl, FILE *out);
 
 /* The checks (one per kernel pair). */
+/* kernel_checks.c: prefix_sum.cl, work-group and serial variants. */
 int slchk_prefix_sum(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r,
                      sl_err *e);
 int slchk_prefix_sum_serial(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r,
                             sl_err *e);
+/* shadow_check.c: raster.cl vs cpu/raster.c on procedural hair (bit-identical); the whole DODM
+ * path (raster, tables, lookup) vs the C twin. */
+int slchk_raster(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
+int slchk_dodm(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
+/* volume_check.c (`strandlight kernels --only voxel|march|ms|dual`). */
+int slchk_voxel(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
+int slchk_march(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
+int slchk_ms_response(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r,
+                      sl_err *e);
+int slchk_dual_table(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r,
+                     sl_err *e);
+/* srbf_check.c: srbf_eval.cl vs the C twin (o->size: number of lobes, default 4096). */
+int slchk_srbf(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
+/* view_check.c: the -DSL_KB_K build and the generic one against slc_kbuffer_build, bit-exact,
+ * on typical or (o->extreme) extreme fragments. */
+int slchk_kbuffer(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
+int slchk_kbuffer_generic(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r,
+                          sl_err *e);
 
 #endif

@@ -1,5 +1,7 @@
 /* shadow_check.c: the `strandlight kernels` checks of the light pass: raster.cl and dodm.cl
  * against their C twins (cpu/raster.c, cpu/dodm.c) on procedural hair. */
+#include "verify/checks/kernel_checks.h"
+
 #include "../cpu/dodm.h"
 #include "../cpu/raster.h"
 #include "passes/light/dodm_cl.h"

@@ -164,30 +164,9 @@ typedef struct run_ctx {
  * slc_srbf_batch writes them). OpenCL: the table stays resident, rows and results travel. */
 static int table_rows(run_ctx *r, int g, size_t n, const float *in, float *out, sl_err *e) {
     if (r->cl) {
-        cl_context ctx = sl_cl_context(r->cl);
-        cl_int err = CL_SUCCESS;
-        if (!r->ren_mem[g]) {
-            r->ren_mem[g] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                           r->ren[g].n_floats * sizeof(float), r->ren[g].T, &err);
-            if (sl_cl_check(err, "clCreateBuffer", e)) {
-                r->ren_mem[g] = NULL;
-                return -1;
-            }
-        }
-        cl_mem bi = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                   n * 5 * sizeof(float), (void *)in, &err),
-               bo = NULL;
-        if (err == CL_SUCCESS)
-            bo = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, n * 9 * sizeof(float), NULL, &err);
-        int rc = sl_cl_check(err, "clCreateBuffer", e);
-        if (!rc) rc = slcl_srbf_ren_enqueue(r->cl, &r->ren[g].dims, r->ren_mem[g], n, bi, bo, e);
-        if (!rc)
-            rc = sl_cl_check(clEnqueueReadBuffer(sl_cl_queue(r->cl), bo, CL_TRUE, 0,
-                                                 n * 9 * sizeof(float), r->out9, 0, NULL, NULL),
-                             "clEnqueueReadBuffer", e);
-        if (bi) clReleaseMemObject(bi);
-        if (bo) clReleaseMemObject(bo);
-        if (rc) return -1;
+        if (slcl_srbf_ren_rows(r->cl, &r->ren[g], &r->ren_mem[g], "clCreateBuffer", n, in, r->out9,
+                               e))
+            return -1;
     } else {
         slc_srbf_ren_batch(&r->ren[g], n, in, r->out9);
     }
@@ -651,7 +630,7 @@ int sl_report_srbf(const sl_report_srbf_opts *o, sl_err *e) {
     if (!rc && o->csv) rc = write_csv(o->csv, res, nr, n, e);
     if (!rc && o->svg) rc = write_svg(o->svg, res, nr, e);
     for (int g = 0; g < SL_SRBF_SAMPLE_MATERIALS; g++)
-        if (r.ren_mem[g]) clReleaseMemObject(r.ren_mem[g]);
+        slcl_srbf_ren_table_release(&r.ren_mem[g]);
     for (int g = 0; g < nren; g++)
         sl_srbf_ren_free(&r.ren[g]);
     free(r.out9);
