@@ -98,11 +98,13 @@ def main():
                       or tgt in REFERENCE_SHARED_KERNEL_HEADERS)
                 check("reference_shares_only_fiber_math", ok, f"{f} includes {spelled}")
             if under(f, "host/verify/reference") and tgt is not None:
-                # The fragment mode borrows the fast path's view pass (plan/frame.h) for the
-                # fragments it shades: the only door from the reference into the fast path.
+                # The fragment mode borrows the fast path's view pass (and the frame's K rule,
+                # plan/frame.h) for the fragments it shades: the only door from the reference
+                # into the fast path.
                 ok = (under(tgt, "cpu/reference", "host/base", "host/scene", "host/io", "host/lighting",
                             "host/verify/reference") or tgt in REFERENCE_SHARED_KERNEL_HEADERS
-                      or (f.endswith("reference_frag.c") and tgt in ("host/plan/frame.h", "host/cl/clrt.h")))
+                      or (f.endswith("reference_frag.c") and tgt in ("host/passes/view/frame_view.h", "host/plan/frame.h",
+                                                          "host/cl/clrt.h")))
                 check("reference_shares_only_fiber_math", ok, f"{f} includes {spelled}")
             # 3. Loaders know nothing of passes.
             if under(f, "host/scene", "host/io", "host/lighting", "host/base") and tgt is not None:
@@ -118,9 +120,13 @@ def main():
             calls = CL_CALL.findall(STRING.sub('""', text[f]))
             ok = not calls or under(f, "host/cl") or f.endswith("_cl.c")
             check("opencl_calls_only_in_cl_and_drivers", ok, f"{f}: {len(calls)} OpenCL calls ({calls[0].rstrip('( ')}...)" if calls else f)
+            # Kernel arguments go through host/cl/cl_args.h, which names the failing argument.
+            sets = "clSetKernelArg(" in "".join(c.replace(" ", "") for c in calls)
+            check("kernel_args_through_cl_args", not sets or f == "host/cl/cl_args.c",
+                  f"{f} calls clSetKernelArg (use cl/cl_args.h: SL_CL_ARG)")
     for r in ("includes_resolve", "twins_and_kernels_no_runtime_or_cli", "kernels_include_only_kernels",
               "reference_shares_only_fiber_math", "loaders_know_no_passes", "production_excludes_verify",
-              "nothing_includes_cli", "opencl_calls_only_in_cl_and_drivers"):
+              "nothing_includes_cli", "opencl_calls_only_in_cl_and_drivers", "kernel_args_through_cl_args"):
         failures.setdefault(r, [])
 
     # 6. No include cycles among the project's headers and sources.

@@ -3,6 +3,7 @@
 #include "base/parallel.h"
 
 #include <pthread.h>
+#include <unistd.h>
 #include <stdatomic.h>
 #include <time.h>
 
@@ -153,4 +154,10 @@ int sl_parallel_for_progress(int nthreads, size_t n, size_t chunk, sl_parallel_f
     }
     progress(user, 1.0);
     return count ? count : 1;
+}
+
+int sl_parallel_threads(int requested) {
+    if (requested > 0) return requested;
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : (n > 16 ? 16 : (int)n);
 }

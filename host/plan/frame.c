@@ -11,6 +11,7 @@
  * quality.point_threshold, the K-buffer layers no pixel reached and, for opaque hair, the
  * transparency channel. */
 #include "plan/frame_internal.h"
+#include "base/parallel.h"
 #include "lighting/lobe_subdivide.h"
 #include "passes/light/shadow_split.h"
 #include "srbf_c.h"
@@ -27,16 +28,6 @@ void sl_render_opts_default(sl_render_opts *o) {
     o->srbf_method = SL_RENDER_SRBF_AUTO;
     o->segments = 4;
     o->lobe_threshold = -1; /* the scene's quality.lobe_threshold */
-}
-
-void sl_fbuf_free(sl_fbuf *f) {
-    free(f->rgba);
-    free(f->depth);
-    for (int k = 0; k < 4; k++)
-        free(f->mode[k]);
-    free(f->shadow);
-    free(f->lobes);
-    memset(f, 0, sizeof *f);
 }
 
 int sl_render_method_parse(const char *s, int *method, sl_err *e) {
@@ -111,9 +102,7 @@ int sl_renderer_set_strand_sigma_a(sl_renderer *r, const float *sigma_a, uint32_
 }
 
 int sl_frame_threads(const sl_renderer *r) {
-    if (r->o.threads > 0) return r->o.threads;
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
-    return n < 1 ? 1 : (n > 16 ? 16 : (int)n);
+    return sl_parallel_threads(r->o.threads);
 }
 
 void sl_frame_why(sl_renderer *r, const char *fmt, ...) {

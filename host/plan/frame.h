@@ -41,6 +41,7 @@
 #include "passes/shade/srbf_tables.h"
 #include "passes/volume/volume.h"
 #include "passes/volume/volume_ms.h"
+#include "passes/resolve/resolve.h"
 
 #include <stdio.h>
 
@@ -81,16 +82,6 @@ typedef struct sl_render_opts {
 } sl_render_opts;
 void sl_render_opts_default(sl_render_opts *o);
 
-/* Beauty and AOVs of one frame, planar, row 0 top, w * h pixels. */
-typedef struct sl_fbuf {
-    int width, height;
-    float *rgba;    /* 4 per pixel, linear, premultiplied */
-    float *depth;   /* view depth of the nearest fragment, +inf where empty */
-    float *mode[4]; /* R, TT, TRT, MS: 3 per pixel, premultiplied (they sum to rgb) */
-    float *shadow;  /* power-weighted mean transmittance toward the lobes, coverage-weighted */
-    float *lobes;   /* lobes evaluated per shading point, coverage-weighted mean */
-} sl_fbuf;
-void sl_fbuf_free(sl_fbuf *f);
 
 enum { SL_PASS_RUN = 0, SL_PASS_CACHED = 1, SL_PASS_SKIPPED = 2 };
 typedef struct sl_pass_rec {
@@ -160,8 +151,6 @@ typedef struct sl_frame_need {
 void sl_frame_estimate(const sl_scene *s, int shadow_size_opt, sl_frame_need *n);
 /* The total of sl_frame_estimate in bytes. */
 size_t sl_frame_estimate_bytes(const sl_scene *s, int shadow_size_opt);
-/* Floats per pixel of an sl_fbuf: rgba 4 + depth 1 + 4 modes x 3 + shadow 1 + lobes 1. */
-#define SL_FBUF_FLOATS 19
 /* K-buffer entries per pixel for s: quality.oit_layers clamped to [1, SL_KBUFFER_MAX]. */
 int sl_frame_oit_k(const sl_scene *s);
 /* Deep opacity map size (texels per side): opt > 0, else quality.shadow_size, else 256 (512

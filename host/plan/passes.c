@@ -1,6 +1,5 @@
 /* passes.c: the table of the frame's passes and the one cache-key rule (passes.h). */
 #include "plan/passes.h"
-#include "passes/resolve/resolve.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -106,7 +105,7 @@ const sl_pass_desc sl_passes[SL_PASSID_COUNT] = {
     [SL_PASSID_RESOLVE] = {.name = "resolve",
                            .inputs = IN(SL_DATA_KBUFFER) | IN(SL_DATA_POINTS) | IN(SL_DATA_SHADED),
                            .outputs = IN(SL_DATA_FRAME),
-                           .run = sl_resolve_run},
+                           .run = sl_pass_resolve},
 };
 
 uint64_t sl_pass_key(const sl_pass_desc *d, const uint64_t *data_hash, uint64_t settings) {

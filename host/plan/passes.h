@@ -106,9 +106,9 @@ void sl_frame_hash_inputs(const sl_frame_inputs *in, uint64_t *data_hash);
  * covers; "-" for an unkeyed pass. */
 void sl_pass_keyed_on(const sl_pass_desc *d, char *buf, size_t n);
 
-/* The runs, by stage (host/plan/plan_lobes.c, host/passes/light/light_pass.c,
- * host/passes/volume/ms_passes.c, host/passes/view/view_pass.c, host/passes/shade/shade_pass.c,
- * host/passes/resolve/resolve.h). */
+/* The runs, by stage (host/plan/plan_lobes.c, run_light.c, run_volume.c, run_view.c,
+ * run_srbf.c, run_shade.c, run_resolve.c): each takes what its descriptor declares from the
+ * renderer and calls its pass (host/passes/...), which knows nothing of the renderer. */
 int sl_pass_tables(sl_renderer *r, const sl_frame_inputs *in, sl_err *e);
 int sl_pass_lobes(sl_renderer *r, const sl_frame_inputs *in, sl_err *e);
 int sl_pass_subdivide(sl_renderer *r, const sl_frame_inputs *in, sl_err *e);
@@ -126,5 +126,6 @@ int sl_pass_view(sl_renderer *r, const sl_frame_inputs *in, sl_err *e);
 int sl_pass_lookup(sl_renderer *r, const sl_frame_inputs *in, sl_err *e);
 int sl_pass_srbf(sl_renderer *r, const sl_frame_inputs *in, sl_err *e);
 int sl_pass_shade(sl_renderer *r, const sl_frame_inputs *in, sl_err *e);
+int sl_pass_resolve(sl_renderer *r, const sl_frame_inputs *in, sl_err *e);
 
 #endif

@@ -1,10 +1,21 @@
 /* resolve.c: front-to-back compositing of the K-buffer into beauty + AOVs (resolve.h). */
 #include "passes/resolve/resolve.h"
-#include "plan/frame_internal.h"
+
+#include "base/common.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+void sl_fbuf_free(sl_fbuf *f) {
+    free(f->rgba);
+    free(f->depth);
+    for (int k = 0; k < 4; k++)
+        free(f->mode[k]);
+    free(f->shadow);
+    free(f->lobes);
+    memset(f, 0, sizeof *f);
+}
 
 static void alloc_fbuf(sl_fbuf *f, int w, int h) {
     memset(f, 0, sizeof *f);
@@ -22,22 +33,19 @@ static void alloc_fbuf(sl_fbuf *f, int w, int h) {
         f->depth[i] = INFINITY;
 }
 
-int sl_resolve_run(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
-    (void)e;
-    sl_fbuf *out = in->out;
-    const sl_frame_work *w = &r->fw;
-    sl_kbuf_view kb = sl_frame_kbuf(r);
-    int K = kb.K;
-    alloc_fbuf(out, kb.w, kb.h);
-    size_t npx = (size_t)kb.w * kb.h;
+void sl_resolve(const sl_kbuf_view *kb, const sl_hair *h, int k, const sl_shade_map *sm,
+                const sl_shade_points *pts, sl_fbuf *out) {
+    int K = kb->K;
+    alloc_fbuf(out, kb->w, kb->h);
+    size_t npx = (size_t)kb->w * kb->h;
     for (size_t px = 0; px < npx; px++) {
-        int n = kb.kcount[px];
+        int n = kb->kcount[px];
         if (!n) continue;
         float wt[SL_KBUFFER_MAX], v[SL_SHADE_FLOATS];
-        float alpha = sl_kbuffer_weights(kb.kbuf + px * K, n, wt);
+        float alpha = sl_kbuffer_weights(kb->kbuf + px * K, n, wt);
         double acc[SL_SHADE_FLOATS] = {0};
         for (int i = 0; i < n; i++) {
-            sl_shade_entry(in->h, &kb, r->rate_k, &w->sm, &w->pts, px, i, v);
+            sl_shade_entry(h, kb, k, sm, pts, px, i, v);
             for (int q = 0; q < SL_SHADE_FLOATS; q++)
                 acc[q] += (double)wt[i] * v[q];
         }
@@ -50,11 +58,8 @@ int sl_resolve_run(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
             out->rgba[4 * px + c] = (float)sum;
         }
         out->rgba[4 * px + 3] = alpha;
-        out->depth[px] = kb.kbuf[px * K].z;
+        out->depth[px] = kb->kbuf[px * K].z;
         out->shadow[px] = alpha > 0 ? (float)(acc[12] / alpha) : 0.0f;
         out->lobes[px] = alpha > 0 ? (float)(acc[13] / alpha) : 0.0f;
     }
-    sl_frame_why(r, "front-to-back compositing of %dx%d pixels%s", kb.w, kb.h,
-                 w->transparent ? "" : " (opaque hair: coverage alpha only)");
-    return 0;
 }

@@ -1,4 +1,4 @@
-/* frame_shade.c: the shading pass of the frame (frame.h): per shading point, the sum over the
+/* frame_shade.c: the shading pass of the frame (frame_shade.h): per shading point, the sum over the
  * used lobes of the SRBF single-scattering response (Xu 2011 Eq. 11; kernels/srbf_fast.h or
  * srbf_xu.h) times the effective transmittance toward the lobe (Ren 2010 Eq. 9, from the light
  * pass), plus multiple scattering: T_f, sigma_f of the volume march (host/passes/volume/volume.h) and the
@@ -6,13 +6,14 @@
  * T_j I_j (numerics.md sec. 4: the map is sum_j rgb_j G_j). Rows (point, lobe) are evaluated in
  * blocks, all three colour channels in one RGB batch (slc_srbf_rgb_batch / slcl_srbf_rgb_batch:
  * only the absorption differs between channels, so the rest is computed once), or, when the
- * planner chose Ren 2010's precomputed table (r->srbf_used, docs/frame.md "SRBF method"), by table
+ * planner chose Ren 2010's precomputed table (env->table, docs/frame.md "SRBF method"), by table
  * lookups (slc_srbf_ren_batch / srbf_ren.cl with the table resident). Each row carries its point's
  * sigma_a: the strand's override (c->strand_sigma_a, painted or from the file's colours) or the
  * material's; the table holds the material's only, so rows of strands with another sigma_a use
  * the closed form. C path: each thread shades a contiguous range of points end to end (rows,
  * response, multiple scattering, accumulation). OpenCL: blocks in turn, one launch per block. */
-#include "plan/frame_internal.h"
+#include "passes/shade/frame_shade.h"
+
 #include "base/parallel.h"
 #include "srbf_c.h"
 #include "srbf_deon_c.h"
@@ -54,12 +55,12 @@ static void fiber_frame(const float u[3], float v[3], float w[3]) {
     w[2] = u[0] * v[1] - u[1] * v[0];
 }
 
-int sl_frame_srbf_on_device(const sl_renderer *r) {
+int sl_shade_on_device(const sl_device *dev) {
     /* Under --device auto on a CPU OpenCL device (PoCL), the C twin of the SRBF response runs
      * 2-3x faster than PoCL's build of srbf_eval.cl on the same cores (docs/performance.md), so
      * the planner keeps it on C; an explicitly chosen device is always used. */
-    if (!r->dev->is_opencl) return 0;
-    return !(sl_device_may_fallback(r->dev) && !sl_cl_is_gpu(r->dev->cl));
+    if (!dev->is_opencl) return 0;
+    return !(sl_device_may_fallback(dev) && !sl_cl_is_gpu(dev->cl));
 }
 
 /* Rows of one block of shading points: the inputs of every (point, lobe) row (in: 5 floats,
@@ -111,7 +112,7 @@ static void rowbuf_free(rowbuf *b) {
 
 /* What every block of one frame shares. */
 typedef struct shade_common {
-    sl_renderer *r;
+    const sl_shade_env *env;
     const sl_shade_ctx *c;
     sl_shade_points *p;
     sl_fiber_params fp; /* one parameter set: the channels differ only in sigma_a (per row) */
@@ -179,44 +180,44 @@ static void build_rows(const shade_common *sc, size_t i0, size_t i1, rowbuf *b) 
  * TRT). */
 static void closed_form_c(const shade_common *sc, size_t n, const float *in, const float *sig,
                           float *res) {
-    const sl_renderer *r = sc->r;
+    const sl_shade_env *r = sc->env;
     if (sc->fp.model == SL_MODEL_DEON)
-        slc_srbf_deon_rgb_batch(&sc->fp, r->tables.C, r->tables.H, r->tables.D, n, in, sig, res);
+        slc_srbf_deon_rgb_batch(&sc->fp, r->tables->C, r->tables->H, r->tables->D, n, in, sig, res);
     else
-        slc_srbf_rgb_batch(&sc->fp, r->tables.C, r->tables.H, sc->method, r->o.segments, n, in,
+        slc_srbf_rgb_batch(&sc->fp, r->tables->C, r->tables->H, sc->method, r->segments, n, in,
                            sig, res);
 }
 
 /* The SRBF response of b's rows on the C twins, in this thread. */
 static void eval_rows_c(const shade_common *sc, rowbuf *b) {
-    const sl_renderer *r = sc->r;
+    const sl_shade_env *r = sc->env;
     if (!sc->table) {
         closed_form_c(sc, b->nr, b->in, b->sig, b->res);
         return;
     }
     if (b->nf) closed_form_c(sc, b->nf, b->fin, b->fsig, b->fres);
-    if (b->nt) slc_srbf_ren_batch(&r->ren, b->nt, b->tin, b->tres);
+    if (b->nt) slc_srbf_ren_batch(r->ren, b->nt, b->tin, b->tres);
 }
 
 /* Table lookups of n rows on the OpenCL device, the table resident (uploaded once per table, kept
- * in r->ren_mem); rows and results travel per block. Returns 0, -1 or SL_CL_EKERNEL. */
-static int ren_cl(sl_renderer *r, size_t n, const float *in, float *out, sl_err *e) {
-    return slcl_srbf_ren_rows(r->dev->cl, &r->ren, &r->ren_mem, "clCreateBuffer (srbf table)", n,
+ * in env->ren_mem); rows and results travel per block. Returns 0, -1 or SL_CL_EKERNEL. */
+static int ren_cl(const sl_shade_env *r, size_t n, const float *in, float *out, sl_err *e) {
+    return slcl_srbf_ren_rows(r->dev->cl, r->ren, r->ren_mem, "clCreateBuffer (srbf table)", n,
                               in, out, e);
 }
 
 /* The SRBF response of b's rows on the OpenCL device (the caller falls back to eval_rows_c when
  * the device may and this fails). Returns 0, -1 or SL_CL_EKERNEL. */
 static int eval_rows_cl(const shade_common *sc, rowbuf *b, sl_err *e) {
-    sl_renderer *r = sc->r;
+    const sl_shade_env *r = sc->env;
     const float *cin = sc->table ? b->fin : b->in, *csig = sc->table ? b->fsig : b->sig;
     float *cres = sc->table ? b->fres : b->res;
     size_t nc = sc->table ? b->nf : b->nr;
     int k = 0;
     if (nc && sc->fp.model == SL_MODEL_DEON)
-        k = slcl_srbf_deon_rgb_batch(r->dev->cl, &sc->fp, &r->tables, nc, cin, csig, cres, e);
+        k = slcl_srbf_deon_rgb_batch(r->dev->cl, &sc->fp, r->tables, nc, cin, csig, cres, e);
     else if (nc)
-        k = slcl_srbf_rgb_batch(r->dev->cl, &sc->fp, &r->tables, sc->method, r->o.segments, nc, cin,
+        k = slcl_srbf_rgb_batch(r->dev->cl, &sc->fp, r->tables, sc->method, r->segments, nc, cin,
                                 csig, cres, e);
     if (!k && sc->table && b->nt) k = ren_cl(r, b->nt, b->tin, b->tres, e);
     return k;
@@ -282,19 +283,19 @@ static void shade_part(void *arg, size_t begin, size_t end, int part) {
     rowbuf_free(&b);
 }
 
-static void shade_c(const sl_renderer *r, const shade_common *sc, size_t i0, size_t i1) {
+static void shade_c(const sl_shade_env *env, const shade_common *sc, size_t i0, size_t i1) {
     enum { MAXT = 16 };
-    int nt = sl_frame_threads(r);
+    int nt = env->threads;
     if (nt > MAXT) nt = MAXT;
     if (i1 - i0 < 64) nt = 1;
     shade_job job = {sc, i0};
     sl_parallel_parts(nt, i1 - i0, shade_part, &job);
 }
 
-int sl_frame_shade(sl_renderer *r, const sl_shade_ctx *c, sl_shade_points *p, sl_err *e) {
+int sl_shade_run(const sl_shade_env *env, const sl_shade_ctx *c, sl_shade_points *p, sl_err *e) {
     shade_common sc;
     memset(&sc, 0, sizeof sc);
-    sc.r = r;
+    sc.env = env;
     sc.c = c;
     sc.p = p;
     sl_material_to_fiber(c->mat, 0, &sc.fp);
@@ -303,13 +304,13 @@ int sl_frame_shade(sl_renderer *r, const sl_shade_ctx *c, sl_shade_points *p, sl
     sc.ssig = p->strand ? c->strand_sigma_a : NULL;
     for (int j = 0; j < c->nused; j++)
         sc.share_sum += c->share[j];
-    /* the table (r->srbf_used, set by the planner): rows whose sigma_a is the material's come
-     * from it, the rest (painted strands) from `fast` */
-    sc.table = r->srbf_used == SL_RENDER_SRBF_TABLE && r->have_ren;
-    sc.method = r->srbf_used == SL_SRBF_METHOD_XU ? SL_SRBF_METHOD_XU : SL_SRBF_METHOD_FAST;
+    /* the table (env->table, the planner's choice): rows whose sigma_a is the material's come
+     * from it, the rest (painted strands) from the closed form */
+    sc.table = env->table;
+    sc.method = env->method;
     memset(p->out, 0, p->n * SL_SHADE_FLOATS * sizeof *p->out);
-    if (!sl_frame_srbf_on_device(r) || !r->dev->is_opencl) {
-        shade_c(r, &sc, 0, p->n);
+    if (!env->on_device || !env->dev->is_opencl) {
+        shade_c(env, &sc, 0, p->n);
         return 0;
     }
     /* OpenCL: blocks of points in turn, each block's rows in one launch; on a failure the
@@ -323,12 +324,12 @@ int sl_frame_shade(sl_renderer *r, const sl_shade_ctx *c, sl_shade_points *p, sl
         build_rows(&sc, p0, p1, &b);
         int k = eval_rows_cl(&sc, &b, e);
         if (k) {
-            if (!sl_device_try_fallback(r->dev, k, e)) rc = -1;
+            if (!sl_device_try_fallback(env->dev, k, e)) rc = -1;
             break;
         }
         accumulate(&sc, &b);
     }
     rowbuf_free(&b);
-    if (!rc && p0 < p->n) shade_c(r, &sc, p0, p->n);
+    if (!rc && p0 < p->n) shade_c(env, &sc, p0, p->n);
     return rc;
 }

@@ -1,9 +1,10 @@
-/* frame_view.c: the view pass of the frame (frame.h): every segment projected into the camera
+/* frame_view.c: the view pass of the frame (frame_view.h): every segment projected into the camera
  * (perspective, per endpoint, in double), turned into fragments by the shared rasterizer
  * (cpu/view.c) in threads over contiguous segment ranges, then inserted in segment order into
  * the K-buffer (C twin in threads over row bands, or kernels/kbuffer.cl through host/passes/view/view_cl.h,
  * bit-identical), so the result is independent of the thread count and the backend. */
-#include "plan/frame_internal.h"
+#include "passes/view/frame_view.h"
+
 #include "base/parallel.h"
 #include "view.h"
 #include "passes/view/view_cl.h"
@@ -52,9 +53,10 @@ static int cmp_float(const void *a, const void *b) {
     return x < y ? -1 : x > y;
 }
 
-int sl_frame_view(sl_renderer *r, const sl_hair *h, const sl_camera *cam, int K, sl_err *e) {
+int sl_view_pass(sl_device *dev, int threads, int on_device, const sl_hair *h,
+                 const sl_camera *cam, int K, sl_view_result *r, sl_err *e) {
     enum { MAXT = 16 };
-    int nt = sl_frame_threads(r);
+    int nt = threads;
     if (nt > MAXT) nt = MAXT;
     if (h->num_strands < 64) nt = 1;
     int w = cam->width, hh = cam->height;
@@ -86,20 +88,20 @@ int sl_frame_view(sl_renderer *r, const sl_hair *h, const sl_camera *cam, int K,
     size_t npx = (size_t)w * hh;
     r->kbuf = sl_malloc(npx * K * sizeof *r->kbuf);
     r->kcount = sl_malloc(npx);
-    r->vw = w, r->vh = hh, r->vK = K;
+    r->w = w, r->h = hh, r->K = K;
     int done = 0;
-    if (sl_frame_srbf_on_device(r)) { /* the same device rule as the SRBF response */
-        int rc = slcl_kbuffer_build(r->dev->cl, &all, w, hh, K, r->kbuf, r->kcount, &r->merges, e);
+    if (on_device) {
+        int rc = slcl_kbuffer_build(dev->cl, &all, w, hh, K, r->kbuf, r->kcount, &r->merges, e);
         if (rc == 0)
             done = 1;
-        else if (!sl_device_try_fallback(r->dev, rc, e)) {
+        else if (!sl_device_try_fallback(dev, rc, e)) {
             slc_frag_list_free(&all);
             free(seglen);
             return -1;
         }
     }
     if (!done) r->merges = slc_kbuffer_build(&all, w, hh, K, r->kbuf, r->kcount, nt);
-    r->kbuf_on_device = done;
+    r->on_device = done;
     r->frags = all.n;
     /* fragments without an entry of their own (merged on overflow, or hidden behind a fully
      * opaque entry, kernels/kbuffer.h): the same count on both backends */

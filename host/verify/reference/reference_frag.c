@@ -1,12 +1,12 @@
-/* reference_frag.c: see reference_frag.h. Borrows the fast path's view pass through a renderer
- * on the C device and takes its K-buffer (the renderer's kbuf/kcount are handed over, not
- * copied). frame*.c are not changed: sl_frame_view (frame_internal.h) is called as the frame
- * itself calls it. */
+/* reference_frag.c: see reference_frag.h. Takes the fast path's K-buffer from its own view
+ * pass (passes/view/frame_view.h, on the C device, as the frame runs it there), so the
+ * reference shades exactly the fast path's fragments. */
 #include "verify/reference/reference_frag.h"
 
+#include "base/parallel.h"
 #include "cl/clrt.h"
+#include "passes/view/frame_view.h"
 #include "plan/frame.h"
-#include "plan/frame_internal.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -16,18 +16,17 @@ int sl_ref_kbuffer_build(const sl_scene *s, const sl_hair *h, const sl_camera *c
     memset(out, 0, sizeof *out);
     sl_device dev = {0};
     if (sl_device_open("c", &dev, e)) return -1;
-    sl_render_opts ro;
-    sl_render_opts_default(&ro);
-    ro.threads = threads, ro.quiet = 1;
-    sl_renderer *r = sl_renderer_create(&dev, &ro);
-    int K = sl_frame_oit_k(s), rc = sl_frame_view(r, h, cam, K, e);
+    sl_view_result v = {0}; /* the K-buffer is the same for any thread count */
+    int rc = sl_view_pass(&dev, sl_parallel_threads(threads), 0, h, cam, sl_frame_oit_k(s), &v, e);
     if (rc == 0) {
-        sl_renderer_take_kbuffer(r, &out->w, &out->h, &out->K, &out->kbuf, &out->kcount);
+        out->w = v.w, out->h = v.h, out->K = v.K, out->kbuf = v.kbuf, out->kcount = v.kcount;
         size_t npx = (size_t)out->w * out->h;
         for (size_t p = 0; p < npx; p++)
             out->entries += out->kcount[p];
+    } else {
+        free(v.kbuf);
+        free(v.kcount);
     }
-    sl_renderer_free(r);
     sl_device_close(&dev);
     return rc;
 }

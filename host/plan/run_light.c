@@ -1,4 +1,4 @@
-/* light_pass.c: the light pass of the frame: one deep opacity map per shaded lobe, several
+/* run_light.c: the light pass of the frame: one deep opacity map per shaded lobe, several
  * for a broad lobe (shadow_split.h), cached while geometry, lobes, the map budget and the
  * shadow quality are unchanged (plan/passes.h: a camera orbit reuses every one). */
 #include "plan/frame_internal.h"

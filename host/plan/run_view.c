@@ -1,4 +1,4 @@
-/* view_pass.c: the view pass of the frame (frame_view.c fills the K-buffer), cached while
+/* run_view.c: the view pass of the frame (frame_view.c fills the K-buffer), cached while
  * geometry, transparency, camera and K are unchanged (plan/passes.h). */
 #include "plan/frame_internal.h"
 
@@ -13,6 +13,19 @@ uint64_t sl_view_settings(const sl_renderer *r, const sl_frame_inputs *in) {
     (void)r;
     int K = sl_frame_oit_k(in->s);
     return sl_hash64(&K, sizeof K, 0x33);
+}
+
+/* The view pass on the renderer's K-buffer (the reference's fragment mode calls sl_view_pass
+ * the same way). */
+int sl_frame_view(sl_renderer *r, const sl_hair *h, const sl_camera *cam, int K, sl_err *e) {
+    sl_view_result v = {r->vw, r->vh, r->vK, r->kbuf, r->kcount, r->frags, r->merges,
+                        r->kbuf_on_device, r->seg_px_median};
+    int rc = sl_view_pass(r->dev, sl_frame_threads(r), sl_frame_srbf_on_device(r), h, cam, K, &v, e);
+    r->vw = v.w, r->vh = v.h, r->vK = v.K;
+    r->kbuf = v.kbuf, r->kcount = v.kcount;
+    r->frags = v.frags, r->merges = v.merges;
+    r->kbuf_on_device = v.on_device, r->seg_px_median = v.seg_px_median;
+    return rc;
 }
 
 int sl_pass_view(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {

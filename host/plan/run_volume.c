@@ -1,4 +1,4 @@
-/* ms_passes.c: the frame's multiple-scattering passes: the decision (ms: off, on, or auto by
+/* run_volume.c: the frame's multiple-scattering passes: the decision (ms: off, on, or auto by
  * the estimated share), the dual-scattering tables (dual), the voxel grid and shadow-path march
  * (volume) and the response tables (ms table). The last three run only when ms is on and are
  * cached by their keys (plan/passes.h). They use the material's sigma_a, never the per-strand

@@ -1,4 +1,4 @@
-/* shade_pass.c: the frame's lookup and shade passes, run every frame: the shading points of
+/* run_shade.c: the frame's lookup and shade passes, run every frame: the shading points of
  * the view pass at this frame's rate with their transmittance toward each shaded lobe, then
  * the SRBF response (+ multiple scattering) per point (frame_shade.c). */
 #include "plan/frame_internal.h"
@@ -7,6 +7,27 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+int sl_frame_srbf_on_device(const sl_renderer *r) {
+    return sl_shade_on_device(r->dev);
+}
+
+int sl_frame_shade(sl_renderer *r, const sl_shade_ctx *c, sl_shade_points *p, sl_err *e) {
+    sl_shade_env env = {
+        .dev = r->dev,
+        .threads = sl_frame_threads(r),
+        .on_device = sl_frame_srbf_on_device(r),
+        /* the srbf pass's choice: rows whose sigma_a is the material's come from Ren's table,
+         * the rest (painted strands) from the closed form */
+        .table = r->srbf_used == SL_RENDER_SRBF_TABLE && r->have_ren,
+        .method = r->srbf_used == SL_SRBF_METHOD_XU ? SL_SRBF_METHOD_XU : SL_SRBF_METHOD_FAST,
+        .segments = r->o.segments,
+        .tables = &r->tables,
+        .ren = &r->ren,
+        .ren_mem = &r->ren_mem,
+    };
+    return sl_shade_run(&env, c, p, e);
+}
 
 /* The shading rate of this frame (r->rate_k) from quality.shading_rate and the view pass. */
 static int shading_rate(const sl_renderer *r, const sl_scene *s) {

@@ -1,4 +1,4 @@
-/* srbf_plan.c: the srbf pass of the frame: the SRBF method of this frame (docs/frame.md,
+/* run_srbf.c: the srbf pass of the frame: the SRBF method of this frame (docs/frame.md,
  * "SRBF method") and Ren 2010's table, built, loaded from the disk cache or kept in memory
  * while the material matches (sl_srbf_ren_matches: the pass decides its own reuse, it is not
  * keyed by plan/passes.h's rule). */
