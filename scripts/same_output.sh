@@ -31,7 +31,9 @@ make -C "$WORK/base" -j2 build/strandlight >"$WORK/base-build.log" 2>&1 ||
     { echo "same_output.sh: build of $REV failed (see $WORK/base-build.log)" >&2; exit 2; }
 OLD=$WORK/base/build/strandlight
 fi
-rm -rf "$WORK/out"; mkdir -p "$WORK/out/old" "$WORK/out/new" "$WORK/cache/old" "$WORK/cache/new"
+# Fresh caches on both sides: `--method auto` picks Ren's table when one is cached, so a cache
+# left by an earlier run would change what a binary renders.
+rm -rf "$WORK/out" "$WORK/cache"; mkdir -p "$WORK/out/old" "$WORK/out/new" "$WORK/cache/old" "$WORK/cache/new"
 
 same=0; differ=0
 # Run times differ between any two runs: keys of the JSON side files that hold a time (or a
