@@ -1,5 +1,5 @@
 /* fiber_c.h: batch drivers of the C twin (float) for the fiber quantities of numerics.md sec. 5:
- * they run the same kernels/ headers as the OpenCL kernels (kernels/scatter_eval.cl), row by
+ * they run the same kernels/ headers as the OpenCL kernels (kernels/fiber.cl), row by
  * row, so C and OpenCL agree to float rounding. Rows are packed floats. */
 #ifndef SL_FIBER_C_H
 #define SL_FIBER_C_H

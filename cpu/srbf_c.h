@@ -1,6 +1,6 @@
 /* srbf_c.h: batch driver of the C twin (float) for the SRBF response (`eval srbf` on the c
  * backend, the frame's shading pass): runs kernels/srbf_xu.h (and the fast path) row by row, the
- * same code as kernels/srbf_eval.cl, so C and OpenCL agree to float rounding. */
+ * same code as kernels/srbf.cl, so C and OpenCL agree to float rounding. */
 #ifndef SL_SRBF_C_H
 #define SL_SRBF_C_H
 

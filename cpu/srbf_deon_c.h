@@ -1,6 +1,6 @@
 /* srbf_deon_c.h: batch driver of the C twin (float) for the d'Eon model's fast SRBF response
  * (`eval srbf --method fast` on the c backend with `model: deon`): runs kernels/srbf_deon.h row
- * by row, the same code as kernels/srbf_deon_eval.cl, so C and OpenCL agree to float rounding. */
+ * by row, the same code as kernels/srbf_deon.cl, so C and OpenCL agree to float rounding. */
 #ifndef SL_SRBF_DEON_C_H
 #define SL_SRBF_DEON_C_H
 

@@ -1,6 +1,6 @@
 /* fiber_marschner.h: the Marschner scattering function of numerics.md sec. 3 (Xu 2011 Eq. 6-10,
  * eccentricity Eq. 24, TRT caustics convolved with a normalised circular Gaussian of width w_c),
- * in float, shared by the C twin (cpu/fiber_c.c) and OpenCL (kernels/scatter_eval.cl). The
+ * in float, shared by the C twin (cpu/fiber_c.c) and OpenCL (kernels/fiber.cl). The
  * double reference is cpu/reference/marschner_ref.c; docs/numerics.md states the tolerances.
  *
  * Numerical choices (see docs/numerics.md):

@@ -1,6 +1,6 @@
 /* srbf_deon.h: the fast SRBF response of the d'Eon model (`eval srbf --method fast` with
  * `model: deon`), float, shared by the C twin (cpu/srbf_deon_c.c) and OpenCL
- * (kernels/srbf_deon_eval.cl). Derivation and measurements: docs/srbf.md, "d'Eon fast path".
+ * (kernels/srbf_deon.cl). Derivation and measurements: docs/srbf.md, "d'Eon fast path".
  *
  *   I_p = int cos ti G_th(ti) M_p(v_p, ti, to - 2 alpha_p) N'_p(ti) d ti
  *   N'_p = int G_ph(phi_i) N_p(phi_o - phi_i) d phi_i                    (Xu 2011 appendix A)

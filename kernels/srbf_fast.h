@@ -533,7 +533,7 @@ SL_INLINE void sl_srbf_fast(const sl_fiber_params *fp, SL_GLOBAL const float *C,
 #endif
 }
 
-/* One row of the RGB batch (cpu/srbf_c.h slc_srbf_rgb_batch, srbf_eval.cl sl_srbf_eval_rgb):
+/* One row of the RGB batch (cpu/srbf_c.h slc_srbf_rgb_batch, srbf.cl sl_srbf_eval_rgb):
  * out[3 t + ch] = I_t for sigma_a = sig[ch]. method 1: fast (channels share everything but the
  * absorption; equal sigma_a cost one channel); else Xu's closed form per channel. */
 SL_INLINE void sl_srbf_rgb_row(const sl_fiber_params *fp, SL_GLOBAL const float *C,

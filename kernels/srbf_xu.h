@@ -1,6 +1,6 @@
 /* srbf_xu.h: Xu et al. 2011 Sec. 4.2 closed-form SRBF response of the Marschner model (the
  * `--method xu` path), in float, shared by the C twin (cpu/srbf_c.c) and OpenCL
- * (kernels/srbf_eval.cl). Every reading of an ambiguity of the paper is in docs/srbf.md; the
+ * (kernels/srbf.cl). Every reading of an ambiguity of the paper is in docs/srbf.md; the
  * tables (C_k, H_k) are built on the host by host/passes/shade/srbf_tables.c with the layout below.
  *
  *   I_t ~ int g(theta_i; theta_j, lambda) M_t(theta_h) cos^2 theta_i / cos^2 theta_d

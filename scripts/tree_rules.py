@@ -203,6 +203,32 @@ def main():
             check("tests_mirror_sources", ok, f"{f}: no folder host/{d}")
     failures.setdefault("tests_mirror_sources", [])
 
+    # 8. A kernel is found by its stem: kernels/X.cl has a driver host/passes/P/X_cl.c, a C twin
+    # cpu/X.c or cpu/X_c.c, and a test in test/passes/P/ whose file name or a TEST() name
+    # holds X. The one exception is named here with its reason.
+    TWIN_ELSEWHERE = {
+        # the C evaluation of kernels/ms_response.h / ms_table.h lives beside the material's
+        # response tables it reads (host/passes/volume/volume_ms.c, which depends on dual.h)
+        "ms": "host/passes/volume/volume_ms.c",
+    }
+    failures.setdefault("kernels_found_by_stem", [])
+    for f in files:
+        if not (f.startswith("kernels/") and f.endswith(".cl")):
+            continue
+        stem = os.path.basename(f)[:-3]
+        drivers = [g for g in files if re.fullmatch(r"host/passes/[a-z_]+/" + re.escape(stem) + r"_cl\.c", g)]
+        if not drivers:
+            check("kernels_found_by_stem", False, f"{f}: no driver host/passes/*/{stem}_cl.c")
+            continue
+        twin = TWIN_ELSEWHERE.get(stem)
+        twins = [g for g in (f"cpu/{stem}.c", f"cpu/{stem}_c.c", twin) if g and g in files]
+        check("kernels_found_by_stem", bool(twins), f"{f}: no twin cpu/{stem}.c or cpu/{stem}_c.c")
+        pass_dir = "test/" + os.path.dirname(drivers[0])[len("host/"):]
+        tests = [g for g in files if g.startswith(pass_dir + "/test_") and g.endswith(".c")]
+        named = [g for g in tests if stem in os.path.basename(g)
+                 or re.search(r"\bTEST\(\w*" + re.escape(stem), text[g])]
+        check("kernels_found_by_stem", bool(named), f"{f}: no test in {pass_dir}/ names {stem}")
+
     bad = 0
     for rule in failures:
         if failures[rule]:

@@ -51,6 +51,8 @@ broken include_cycle no_include_cycles \
 broken folder_cycle no_folder_cycles \
     'host/plan/p.h=#include "passes/shade/s.h"' 'host/passes/shade/s.h=int x;' \
     'host/passes/shade/s.c=#include "plan/p.h"'
+broken kernel_without_twin kernels_found_by_stem \
+    'kernels/blur.cl=int x;' 'host/passes/view/blur_cl.c=int y;' 'test/passes/view/test_blur.c=int z;'
 broken missing_include includes_resolve \
     'host/base/a.c=#include "base/none.h"'
 broken test_misplaced tests_mirror_sources \

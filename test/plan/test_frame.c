@@ -346,7 +346,7 @@ TEST(frame_c_vs_opencl) {
 }
 
 TEST(frame_kbuffer_opencl_equals_c) {
-    /* kernels/kbuffer.cl vs the C twin on 300 random ribbons in a 40x30 image, K = 3 (many
+    /* kernels/view.cl vs the C twin on 300 random ribbons in a 40x30 image, K = 3 (many
      * merges): counts and every kept entry bit-identical (the same float "over" operations in
      * the same order per pixel). */
     sl_device cl = {0};

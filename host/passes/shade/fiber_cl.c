@@ -8,7 +8,7 @@
 
 #include "fiber_c.h"
 
-#define SLCL_FILE "scatter_eval.cl"
+#define SLCL_FILE "fiber.cl"
 
 /* Runs `name` over n rows of in_w floats giving out_w floats each. fp (may be NULL) is passed
  * by value as argument 0; then n, in, out and, when width_arg, out_w. */

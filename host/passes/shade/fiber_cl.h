@@ -1,5 +1,5 @@
 /* fiber_cl.h: OpenCL batch drivers for the fiber quantities of numerics.md sec. 5 (kernels in
- * kernels/scatter_eval.cl); the same row shapes as the C twin in cpu/fiber_c.h. Each call
+ * kernels/fiber.cl); the same row shapes as the C twin in cpu/fiber_c.h. Each call
  * uploads the rows, runs one work-item per row and reads the results back (blocking).
  * Return 0, -1 (e set) or SL_CL_EKERNEL when the kernel could not be built (see clrt.h). */
 #ifndef SL_FIBER_CL_H

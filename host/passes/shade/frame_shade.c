@@ -57,7 +57,7 @@ static void fiber_frame(const float u[3], float v[3], float w[3]) {
 
 int sl_shade_on_device(const sl_device *dev) {
     /* Under --device auto on a CPU OpenCL device (PoCL), the C twin of the SRBF response runs
-     * 2-3x faster than PoCL's build of srbf_eval.cl on the same cores (docs/performance.md), so
+     * 2-3x faster than PoCL's build of srbf.cl on the same cores (docs/performance.md), so
      * the planner keeps it on C; an explicitly chosen device is always used. */
     if (!dev->is_opencl) return 0;
     return !(sl_device_may_fallback(dev) && !sl_cl_is_gpu(dev->cl));

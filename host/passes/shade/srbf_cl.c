@@ -9,7 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-/* The -D options of srbf_eval.cl for this material and method (its header comment): the method
+/* The -D options of srbf.cl for this material and method (its header comment): the method
  * and m as constants, no Xu code for fast, no eccentric TRT for a round fiber. */
 void slcl_srbf_options(const sl_fiber_params *fp, int method, int segments, char *buf,
                        size_t size) {
@@ -89,7 +89,7 @@ int slcl_srbf_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *
     const size_t size[] = {n * 5, n * 4, SL_SRBF_C_FLOATS, SL_SRBF_H_FLOATS};
     const float *src[] = {in, NULL, t->C, t->H};
     const cl_int ints[] = {method, segments};
-    const slcl_srbf_job j = {"srbf_eval.cl", "sl_srbf_eval", opts, n, "bbbbii", ints, 1, size, src};
+    const slcl_srbf_job j = {"srbf.cl", "sl_srbf_eval", opts, n, "bbbbii", ints, 1, size, src};
     return slcl_srbf_launch(cl, fp, &j, out, e);
 }
 
@@ -105,7 +105,7 @@ int slcl_srbf_rgb_batch_ex(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_t
     const float *src[] = {in, sigma_a ? sigma_a : dummy, NULL, t->C, t->H};
     const cl_int ints[] = {sigma_a != NULL, method, segments};
     const slcl_srbf_job j = {
-        "srbf_eval.cl", "sl_srbf_eval_rgb", opts, n, "bbibbbii", ints, 2, size, src};
+        "srbf.cl", "sl_srbf_eval_rgb", opts, n, "bbibbbii", ints, 2, size, src};
     return slcl_srbf_launch(cl, fp, &j, out, e);
 }
 

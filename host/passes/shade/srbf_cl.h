@@ -1,4 +1,4 @@
-/* srbf_cl.h: OpenCL batch driver for the SRBF response (kernels/srbf_eval.cl); the same row
+/* srbf_cl.h: OpenCL batch driver for the SRBF response (kernels/srbf.cl); the same row
  * shapes as the C twin (cpu/srbf_c.h). Uploads the rows and the tables, runs one work-item per
  * row, reads the results back (blocking). Returns 0, -1 (e set) or SL_CL_EKERNEL. */
 #ifndef SL_SRBF_CL_H
@@ -26,10 +26,10 @@ int slcl_srbf_rgb_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tabl
 int slcl_srbf_rgb_batch_ex(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *t,
                            int method, int segments, size_t n, const float *in,
                            const float *sigma_a, float *out, int generic, sl_err *e);
-/* The -D options of kernels/srbf_eval.cl for fp and method (into buf). */
+/* The -D options of kernels/srbf.cl for fp and method (into buf). */
 void slcl_srbf_options(const sl_fiber_params *fp, int method, int segments, char *buf, size_t size);
 
-/* One batch of an SRBF kernel (kernels/srbf_eval.cl, kernels/srbf_deon_eval.cl). Every such
+/* One batch of an SRBF kernel (kernels/srbf.cl, kernels/srbf_deon.cl). Every such
  * kernel takes (const sl_fiber_params, const uint rows) first, then the arguments `args` spells,
  * one letter each: 'b' the next float buffer (in the order of size/src), 'i' the next of ints (a
  * const int). A buffer with src[a] is a read-only copy of its size[a] floats; with NULL it is

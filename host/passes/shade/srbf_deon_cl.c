@@ -14,7 +14,7 @@ int slcl_srbf_deon_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tab
                            SL_SRBF_DEON_FLOATS};
     const float *src[] = {in, NULL, t->C, t->H, t->D};
     const slcl_srbf_job j = {
-        "srbf_deon_eval.cl", "sl_srbf_deon_eval", "", n, "bbbbb", NULL, 1, size, src};
+        "srbf_deon.cl", "sl_srbf_deon_eval", "", n, "bbbbb", NULL, 1, size, src};
     return slcl_srbf_launch(cl, fp, &j, out, e);
 }
 
@@ -29,6 +29,6 @@ int slcl_srbf_deon_rgb_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf
     const float *src[] = {in, sigma_a ? sigma_a : &dummy, NULL, t->C, t->H, t->D};
     const cl_int ints[] = {sigma_a != NULL};
     const slcl_srbf_job j = {
-        "srbf_deon_eval.cl", "sl_srbf_deon_rgb", "", n, "bbibbbb", ints, 2, size, src};
+        "srbf_deon.cl", "sl_srbf_deon_rgb", "", n, "bbibbbb", ints, 2, size, src};
     return slcl_srbf_launch(cl, fp, &j, out, e);
 }

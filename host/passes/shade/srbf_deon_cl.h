@@ -1,5 +1,5 @@
 /* srbf_deon_cl.h: OpenCL batch driver of the d'Eon model's fast SRBF response
- * (kernels/srbf_deon_eval.cl); the same row shapes as the C twin (cpu/srbf_deon_c.h). Uploads
+ * (kernels/srbf_deon.cl); the same row shapes as the C twin (cpu/srbf_deon_c.h). Uploads
  * the rows and the tables, runs one work-item per row, reads the results back (blocking). */
 #ifndef SL_SRBF_DEON_CL_H
 #define SL_SRBF_DEON_CL_H

@@ -1,7 +1,7 @@
 /* frame_view.c: the view pass of the frame (frame_view.h): every segment projected into the camera
  * (perspective, per endpoint, in double), turned into fragments by the shared rasterizer
  * (cpu/view.c) in threads over contiguous segment ranges, then inserted in segment order into
- * the K-buffer (C twin in threads over row bands, or kernels/kbuffer.cl through host/passes/view/view_cl.h,
+ * the K-buffer (C twin in threads over row bands, or kernels/view.cl through host/passes/view/view_cl.h,
  * bit-identical), so the result is independent of the thread count and the backend. */
 #include "passes/view/frame_view.h"
 

@@ -1,7 +1,7 @@
 /* frame_view.h: the view pass: every segment of the hair projected into the camera, turned into
  * fragments with coverage antialiasing (cpu/view.c, the shared splat of kernels/splat.h) and
  * inserted in segment order into a K-buffer of K entries per pixel (kernels/kbuffer.h; the C twin
- * or kernels/kbuffer.cl), bit-identical for any thread count and either backend. The planner's
+ * or kernels/view.cl), bit-identical for any thread count and either backend. The planner's
  * run is plan/run_view.c; the fragment reference (verify/reference/reference_frag.c) calls it
  * too, to shade exactly these fragments. */
 #ifndef SL_FRAME_VIEW_H

@@ -25,7 +25,7 @@ int slcl_kbuffer_build_ex(sl_cl *cl, const slc_frag_list *l, int w, int h, int K
     snprintf(opts, sizeof opts, "-DSL_KB_K=%d", K);
     cl_kernel k;
     int rc =
-        sl_cl_get_kernel(cl, "kbuffer.cl", "sl_kbuffer_fill", specialised ? opts : NULL, &k, e);
+        sl_cl_get_kernel(cl, "view.cl", "sl_kbuffer_fill", specialised ? opts : NULL, &k, e);
     if (rc) return rc;
     uint32_t *start = sl_calloc(npx + 1, sizeof *start);
     for (size_t i = 0; i < l->n; i++)

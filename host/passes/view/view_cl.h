@@ -1,4 +1,4 @@
-/* view_cl.h: the OpenCL driver of the K-buffer fill (kernels/kbuffer.cl; C twin
+/* view_cl.h: the OpenCL driver of the K-buffer fill (kernels/view.cl; C twin
  * slc_kbuffer_build of cpu/view.h). Results equal the C twin's bit for bit. */
 #ifndef SL_VIEW_CL_H
 #define SL_VIEW_CL_H
@@ -10,7 +10,7 @@
  * *merges gets the number of overflowing insertions. Returns 0, -1 (e set) or SL_CL_EKERNEL. */
 int slcl_kbuffer_build(sl_cl *cl, const slc_frag_list *l, int w, int h, int K, sl_kfrag *kbuf,
                        uint8_t *count, size_t *merges, sl_err *e);
-/* The same with the build chosen: specialised = 1 builds kbuffer.cl with -DSL_KB_K=K (what
+/* The same with the build chosen: specialised = 1 builds view.cl with -DSL_KB_K=K (what
  * slcl_kbuffer_build uses), 0 the generic program (K a kernel argument). *kernel_s (may be NULL)
  * gets the kernel's time (profiling events when the queue has them, else the wall clock of
  * launch + finish). */

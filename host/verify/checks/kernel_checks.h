@@ -79,7 +79,7 @@ int slchk_ms_response(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_
                       sl_err *e);
 int slchk_dual_table(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r,
                      sl_err *e);
-/* srbf_check.c: srbf_eval.cl vs the C twin (o->size: number of lobes, default 4096). */
+/* srbf_check.c: srbf.cl vs the C twin (o->size: number of lobes, default 4096). */
 int slchk_srbf(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
 /* view_check.c: the -DSL_KB_K build and the generic one against slc_kbuffer_build, bit-exact,
  * on typical or (o->extreme) extreme fragments. */

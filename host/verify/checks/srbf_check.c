@@ -1,4 +1,4 @@
-/* srbf_check.c: the `strandlight kernels` check of the SRBF response: kernels/srbf_eval.cl
+/* srbf_check.c: the `strandlight kernels` check of the SRBF response: kernels/srbf.cl
  * (host/passes/shade/srbf_cl.c) against its C twin (cpu/srbf_c.c). */
 #include "verify/checks/kernel_checks.h"
 
@@ -10,7 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-/* `strandlight kernels --only srbf`: srbf_eval.cl against the C twin on the stiff sample's
+/* `strandlight kernels --only srbf`: srbf.cl against the C twin on the stiff sample's
  * configurations (default material), --method fast then xu (m = 4) in one output vector. */
 int slchk_srbf(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e) {
     size_t n = o->size > 0 ? (size_t)o->size : 4096;

@@ -1,4 +1,4 @@
-/* view_check.c: the `strandlight kernels` checks of the view pass: kernels/kbuffer.cl, its
+/* view_check.c: the `strandlight kernels` checks of the view pass: kernels/view.cl, its
  * -DSL_KB_K build and its generic one (host/passes/view/view_cl.c), against the C twin
  * slc_kbuffer_build (cpu/view.h). */
 #include "verify/checks/kernel_checks.h"

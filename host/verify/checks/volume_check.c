@@ -13,7 +13,7 @@
 #include "voxel_c.h"
 #include "passes/volume/voxel_cl.h"
 #include "passes/volume/volume_ms.h"
-#include "passes/volume/volume_ms_cl.h"
+#include "passes/volume/ms_cl.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -128,7 +128,7 @@ TEST(srbf_fast_rgb_vs_exact) {
     sl_srbf_tables_free(&t);
 }
 
-/* C twin against OpenCL (generic and -D specialised builds of srbf_eval.cl): the same float
+/* C twin against OpenCL (generic and -D specialised builds of srbf.cl): the same float
  * code; the device's exp/log/sqrt/cos may differ by an ulp or two, which the table weights and
  * sums carry through: relative 1e-3 or 1e-6 absolute (values are O(1e-3..1)), the tolerance of
  * the existing `kernels --only srbf` check. Specialised vs generic: the same device, the same

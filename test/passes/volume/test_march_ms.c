@@ -12,7 +12,7 @@
 #include "dual_c.h"
 #include "passes/volume/dual_cl.h"
 #include "passes/volume/volume_ms.h"
-#include "passes/volume/volume_ms_cl.h"
+#include "passes/volume/ms_cl.h"
 
 #include <math.h>
 #include <stdlib.h>

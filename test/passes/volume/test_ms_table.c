@@ -10,7 +10,7 @@
 
 #include "ms_table.h"
 #include "passes/volume/volume_ms.h"
-#include "passes/volume/volume_ms_cl.h"
+#include "passes/volume/ms_cl.h"
 
 #include <math.h>
 #include <stdint.h>

@@ -1,4 +1,4 @@
-/* kbuffer.cl: the K-buffer fill of the view pass on the device (C twin: slc_kbuffer_build in
+/* view.cl: the K-buffer fill of the view pass on the device (C twin: slc_kbuffer_build in
  * cpu/view.c; math: kernels/kbuffer.h). The host sorts the fragments by pixel, stably (segment
  * order kept within a pixel), so one work-item per pixel inserts its fragments in the same order
  * as the C twin: the buffers are bit-identical. Built with -DSL_KB_K=K (specialised: the

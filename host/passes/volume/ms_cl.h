@@ -1,4 +1,4 @@
-/* volume_ms_cl.h: enqueues kernels/ms.cl (the multiple-scattering response rows; C side
+/* ms_cl.h: enqueues kernels/ms.cl (the multiple-scattering response rows; C side
  * host/passes/volume/volume_ms.c). */
 #ifndef SL_VOLUME_MS_CL_H
 #define SL_VOLUME_MS_CL_H

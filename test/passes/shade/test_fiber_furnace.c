@@ -1,4 +1,4 @@
-/* test_furnace.c: white-furnace integrals (cpu/reference/furnace_ref.c in double,
+/* test_fiber_furnace.c: white-furnace integrals (cpu/reference/furnace_ref.c in double,
  * kernels/fiber_furnace.h in float). d'Eon with sigma_a = 0, every order sharing one alpha/beta,
  * explicit orders + rest: the albedo is exactly 1 for every theta_o (d'Eon Sec. 4.2: M_p
  * integrates to 1 against cos theta_i, and sum_p E_p + E_rest = 1/2 integral 1 dh = 1). */

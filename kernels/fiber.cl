@@ -1,4 +1,4 @@
-/* scatter_eval.cl: OpenCL kernels behind `strandlight eval` for the fiber quantities
+/* fiber.cl: OpenCL kernels behind `strandlight eval` for the fiber quantities
  * (numerics.md sec. 5), one work-item per row; host side in host/passes/shade/fiber_cl.c. They call the same
  * float headers as the C twin (cpu/fiber_c.c), so both backends agree to float rounding.
  *   sl_scatter_eval:  in theta_i, phi_i, theta_o, phi_o -> f per mode + total (width floats)

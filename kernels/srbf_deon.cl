@@ -1,4 +1,4 @@
-/* srbf_deon_eval.cl: the OpenCL kernel behind `strandlight eval srbf --method fast` for the
+/* srbf_deon.cl: the OpenCL kernel behind `strandlight eval srbf --method fast` for the
  * d'Eon model, one work-item per row; host side in host/passes/shade/srbf_deon_cl.c. The same float header
  * as the C twin (kernels/srbf_deon.h, cpu/srbf_deon_c.c), so both backends agree to rounding.
  *   sl_srbf_deon_eval: in theta_o, phi_o, theta_j, phi_j, lambda -> I_0..I_orders, I_rest, I

@@ -1,4 +1,4 @@
-/* test_marschner.c: the Marschner model of numerics.md sec. 3: the double reference
+/* test_fiber_marschner.c: the Marschner model of numerics.md sec. 3: the double reference
  * (cpu/reference/marschner_ref.c) against independent double computations written here
  * (Fresnel, A_t, Phi, quadratures), and the float backends (C twin, OpenCL) against the
  * reference. Tolerances are stated (and justified) next to each check; measured figures are in

@@ -1,4 +1,4 @@
-/* test_deon.c: d'Eon 2011 model (kernels/fiber_deon.h in float, cpu/reference/deon_ref.c in
+/* test_fiber_deon.c: d'Eon 2011 model (kernels/fiber_deon.h in float, cpu/reference/deon_ref.c in
  * double) against independent double computations: M_p normalisation and a direct Eq. 7
  * formula with an independently computed I0, N_p energy, the closed-form E_rest, and a
  * float-vs-reference sweep over extreme inputs. Tolerances are stated at each check and derived

@@ -1,5 +1,5 @@
-/* volume_ms_cl.c: see volume_ms_cl.h. */
-#include "passes/volume/volume_ms_cl.h"
+/* ms_cl.c: see ms_cl.h. */
+#include "passes/volume/ms_cl.h"
 
 #include "cl/cl_args.h"
 #include "ms_table.h"

@@ -1,4 +1,4 @@
-/* test_coverage.c: the view pass's coverage of thin strands (cpu/view.c, kernels/kbuffer.h;
+/* test_view_coverage.c: the view pass's coverage of thin strands (cpu/view.c, kernels/kbuffer.h;
  * docs/coverage.md) against ground truth computed here in double, independently of the code
  * under test:
  * - box coverage: the exact area of the ribbon (the fast path's geometry: a rectangle of width
@@ -407,7 +407,7 @@ TEST(cov_strand_ends_and_gaps) {
 }
 
 TEST(cov_strands_opencl_equals_c) {
-    /* Merged strand fragments go through the same K-buffer fill: kernels/kbuffer.cl vs the C
+    /* Merged strand fragments go through the same K-buffer fill: kernels/view.cl vs the C
      * twin on 60 wavy strands of 12 points (0.3 - 1.3 px wide, crossing each other) in a 64 x 48
      * image with K = 3 (many overflow merges): counts and every kept entry bit-identical. */
     sl_device cl = {0};

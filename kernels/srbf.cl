@@ -1,4 +1,4 @@
-/* srbf_eval.cl: the OpenCL kernels behind `strandlight eval srbf` (--method xu and fast) and the
+/* srbf.cl: the OpenCL kernels behind `strandlight eval srbf` (--method xu and fast) and the
  * frame's shading pass, one work-item per row; host side in host/passes/shade/srbf_cl.c. They call the same
  * float headers as the C twin (cpu/srbf_c.c), so both backends agree to float rounding.
  *   sl_srbf_eval:     in theta_o, phi_o, theta_j, phi_j, lambda -> I_R, I_TT, I_TRT, I
