@@ -81,13 +81,16 @@ void slc_raster_z0(const float *recs, size_t nseg, int w, int h, uint32_t *z0bit
         const float *rec = recs + s * SL_RASTER_REC;
         sl_splat it;
         sl_splat_begin(&it, rec, w, h, !rec_inside(rec, w, h));
-        sl_int tx, ty;
-        float share, z;
-        while (sl_splat_next(&it, &tx, &ty, &share, &z)) {
-            /* llrintf(share) == 0 <=> share <= 0.5 (share >= 0; rint(0.5) = 0 by ties-to-even) */
-            if (!(share > 0.5f)) continue;
-            uint32_t *p = &z0bits[(size_t)ty * w + tx], b = bits_of(z);
-            if (b < *p) *p = b;
+        /* a sample at a time: the corner-by-corner walk costs more than this compare */
+        while (sl_splat_next_sample(&it)) {
+            const uint32_t b = bits_of(it.z);
+            for (int c = 0; c < 4; c++) {
+                /* llrintf(share) == 0 <=> share <= 0.5 (share >= 0; rint(0.5) = 0 by
+                 * ties-to-even) */
+                if (!(it.left >> c & 1u) || !(it.sh[c] > 0.5f)) continue;
+                uint32_t *p = &z0bits[(size_t)(it.iy + (c >> 1)) * w + (it.ix + (c & 1))];
+                if (b < *p) *p = b;
+            }
         }
     }
 }

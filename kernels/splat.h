@@ -41,6 +41,7 @@ typedef struct sl_splat {
     float z;        /* its depth */
     float sh[4];    /* its share at corner c = (ix + (c & 1), iy + (c >> 1)) */
     sl_uint left;   /* its corners not yet returned that lie in the map: bit c for corner c */
+    int taken;      /* sl_splat_next_sample: the current sample was handed out */
 } sl_splat;
 
 /* Index of the lowest set bit of l != 0 (OpenCL C 1.2 has popcount but no ctz; the C build is
@@ -91,6 +92,7 @@ SL_INLINE void sl_splat_begin(sl_splat *it, const SL_GLOBAL float *rec, sl_int w
     it->w = w;
     it->h = h;
     it->left = 0u;
+    it->taken = 0;
     if (it->na == 0u || it->nw == 0u) {
         /* the first sl_splat_next steps past the last row at once */
         it->na = 0u;
@@ -122,6 +124,29 @@ SL_INLINE int sl_splat_next(sl_splat *it, sl_int *tx, sl_int *ty, float *share, 
     *share = it->sh[c];
     *z = it->z;
     return 1;
+}
+
+/* The walk a sample at a time, for a caller whose work per texel is a compare (the first-depth
+ * pass), where stepping corner by corner costs more than the work: the next sample (the first on
+ * the first call), whose corners in the map are the bits c of it->left, texel
+ * (it->ix + (c & 1), it->iy + (c >> 1)), share it->sh[c], depth it->z; visiting c = 0..3 in turn
+ * gives the texels in sl_splat_next's order. Returns 0 past the last sample. A walk uses either
+ * this or sl_splat_next, not both. */
+SL_INLINE int sl_splat_next_sample(sl_splat *it) {
+    if (it->taken) {
+        if (++it->j == it->nw) {
+            it->j = 0u;
+            if (++it->i >= it->na) {
+                it->i = it->na;
+                it->j = it->nw - 1u;
+                it->left = 0u;
+                return 0;
+            }
+        }
+        sl_splat_load(it);
+    }
+    it->taken = 1;
+    return it->i < it->na;
 }
 
 #endif
