@@ -156,8 +156,13 @@ int sl_parallel_for_progress(int nthreads, size_t n, size_t chunk, sl_parallel_f
     return count ? count : 1;
 }
 
+int sl_parallel_cpus(void) {
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : (n > 4096 ? 4096 : (int)n);
+}
+
 int sl_parallel_threads(int requested) {
     if (requested > 0) return requested;
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
-    return n < 1 ? 1 : (n > 16 ? 16 : (int)n);
+    int n = sl_parallel_cpus();
+    return n > 16 ? 16 : n;
 }

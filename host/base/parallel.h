@@ -45,6 +45,8 @@ int sl_parallel_for_progress(int nthreads, size_t n, size_t chunk, sl_parallel_f
  * for the others; max < 0 lifts the limit (the default). Not for use while a fan-out runs. */
 void sl_parallel_limit_spawns(int max);
 
+/* The online CPUs (at least 1). */
+int sl_parallel_cpus(void);
 /* The thread count for a request: requested when > 0, else the online CPUs, at most 16. */
 int sl_parallel_threads(int requested);
 

@@ -167,8 +167,7 @@ static int prep_make(const sl_hair *h, const sl_shadow_opts *o, prep *p, sl_err 
             : auto_z0_radius(h, o->kappa, v.texel);
     p->threads = o->threads;
     if (p->threads <= 0) {
-        long nc = sysconf(_SC_NPROCESSORS_ONLN);
-        p->threads = nc < 1 ? 1 : (int)nc;
+        p->threads = sl_parallel_cpus();
         /* automatic: below a few thousand segments a thread costs more than it saves */
         if ((size_t)p->threads > p->nseg / 2048 + 1) p->threads = (int)(p->nseg / 2048 + 1);
     }
@@ -505,8 +504,8 @@ static void ljob_run(void *arg, size_t begin, size_t end, int part) {
  * point's T depends only on the map and the point: the same values for any split). */
 static void lookup_c(const sl_dodm *m, const float *pts, size_t n, float *t) {
     enum { PER_THREAD = 4096 };
-    long nc = sysconf(_SC_NPROCESSORS_ONLN);
-    int nt = nc < 1 ? 1 : (nc > SL_SHADOW_MAX_THREADS ? SL_SHADOW_MAX_THREADS : (int)nc);
+    int nt = sl_parallel_cpus();
+    if (nt > SL_SHADOW_MAX_THREADS) nt = SL_SHADOW_MAX_THREADS;
     if ((size_t)nt > n / PER_THREAD + 1) nt = (int)(n / PER_THREAD + 1);
     ljob job = {m, pts, t};
     sl_parallel_parts(nt, n, ljob_run, &job);

@@ -176,8 +176,8 @@ static int fast_rows(sl_device *dev, const sl_fiber_params *fp, const sl_srbf_ta
 }
 
 static int online_cpus(void) {
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
-    return n < 1 ? 1 : (n > 64 ? 64 : (int)n);
+    int n = sl_parallel_cpus();
+    return n > 64 ? 64 : n;
 }
 
 static int cmp_d(const void *a, const void *b) {

@@ -2,6 +2,7 @@
  * voxelization and the shadow-path march on OpenCL or the C twins (with the `auto` fallback),
  * the coarse vertex set and the texture lookup. */
 #include "passes/volume/volume.h"
+#include "base/parallel.h"
 
 #include "march.h"
 #include "march_c.h"
@@ -208,8 +209,7 @@ int sl_march_build(sl_device *dev, const sl_voxel_grid *g, const sl_dual_tables 
         double t0 = sl_now();
         int nt = o->threads;
         if (nt <= 0) {
-            long nc = sysconf(_SC_NPROCESSORS_ONLN);
-            nt = nc < 1 ? 1 : (int)nc;
+            nt = sl_parallel_cpus();
             if ((size_t)nt > nout / 64 + 1) nt = (int)(nout / 64 + 1); /* small jobs: fewer */
         }
         slc_march_threads(g->vox, g->n, g->lo, g->h, tabs, verts, ids, na, fd, (size_t)nlobes,

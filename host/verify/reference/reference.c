@@ -3,6 +3,7 @@
  * and drives cpu/reference/render_ref.c (pixel mode) or cpu/reference/render_ref_frag.c on the
  * fast path's K-buffer (fragment mode, host/verify/reference/reference_frag.h). */
 #include "verify/reference/reference.h"
+#include "base/parallel.h"
 
 #include "base/disk_cache.h"
 #include "scene/camera.h"
@@ -103,8 +104,7 @@ static int prepare(const sl_scene *s, const sl_reference_settings *set, prep *p,
         prep_free(p);
         return -1;
     }
-    long nproc = sysconf(_SC_NPROCESSORS_ONLN);
-    p->threads = set->threads > 0 ? set->threads : (nproc > 0 ? (int)nproc : 1);
+    p->threads = set->threads > 0 ? set->threads : sl_parallel_cpus();
     if (set->fragments && sl_ref_kbuffer_build(s, &p->hair, &p->cam, p->threads, &p->kb, e)) {
         prep_free(p);
         return -1;
