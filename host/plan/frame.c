@@ -78,8 +78,8 @@ void sl_renderer_free(sl_renderer *r) {
     if (r->have_vms) sl_volume_ms_free(&r->vms);
     if (r->have_tables) sl_srbf_tables_free(&r->tables);
     sl_frame_free_ren(r);
-    free(r->kbuf);
-    free(r->kcount);
+    free(r->view.kbuf);
+    free(r->view.kcount);
     free(r->strand_sigma_a);
     free(r);
 }
@@ -113,7 +113,7 @@ void sl_frame_why(sl_renderer *r, const char *fmt, ...) {
 }
 
 sl_kbuf_view sl_frame_kbuf(const sl_renderer *r) {
-    return (sl_kbuf_view){r->vw, r->vh, r->vK, r->kbuf, r->kcount};
+    return (sl_kbuf_view){r->view.w, r->view.h, r->view.K, r->view.kbuf, r->view.kcount};
 }
 
 /* Appends the record of pass d to the plan. */
@@ -163,18 +163,18 @@ double sl_renderer_frame_seconds(const sl_renderer *r) {
 
 int sl_renderer_kbuffer(const sl_renderer *r, int *w, int *h, int *K, const sl_kfrag **kbuf,
                         const uint8_t **kcount) {
-    if (!r->kbuf) return -1;
-    *w = r->vw, *h = r->vh, *K = r->vK;
-    *kbuf = r->kbuf, *kcount = r->kcount;
+    if (!r->view.kbuf) return -1;
+    *w = r->view.w, *h = r->view.h, *K = r->view.K;
+    *kbuf = r->view.kbuf, *kcount = r->view.kcount;
     return 0;
 }
 
 int sl_renderer_take_kbuffer(sl_renderer *r, int *w, int *h, int *K, sl_kfrag **kbuf,
                              uint8_t **kcount) {
-    if (!r->kbuf) return -1;
-    *w = r->vw, *h = r->vh, *K = r->vK;
-    *kbuf = r->kbuf, *kcount = r->kcount;
-    r->kbuf = NULL, r->kcount = NULL;
+    if (!r->view.kbuf) return -1;
+    *w = r->view.w, *h = r->view.h, *K = r->view.K;
+    *kbuf = r->view.kbuf, *kcount = r->view.kcount;
+    r->view.kbuf = NULL, r->view.kcount = NULL;
     r->key[SL_PASSID_VIEW] = 0; /* handed over: the next frame fills a new one */
     return 0;
 }

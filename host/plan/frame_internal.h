@@ -10,8 +10,7 @@
 
 int sl_frame_threads(const sl_renderer *r);
 
-/* The view pass (passes/view/frame_view.h) into the renderer's K-buffer: fills r->kbuf,
- * r->kcount (w x h x K) and r->frags, r->merges, seg_px_median. */
+/* The view pass (passes/view/frame_view.h) into the renderer's r->view. */
 int sl_frame_view(sl_renderer *r, const sl_hair *h, const sl_camera *cam, int K, sl_err *e);
 
 

@@ -7,6 +7,7 @@
 #include "plan/frame.h"
 #include "plan/passes.h"
 #include "passes/shade/shade_points.h"
+#include "passes/view/frame_view.h"
 
 /* One frame's working state, passed from pass to pass (freed at the end of the frame). */
 typedef struct sl_frame_work {
@@ -47,12 +48,7 @@ struct sl_renderer {
     sl_ftex ftex;
     int have_vms; /* multiple-scattering response tables (material) */
     sl_volume_ms vms;
-    int vw, vh, vK;
-    sl_kfrag *kbuf;
-    uint8_t *kcount;
-    size_t frags, merges;
-    int kbuf_on_device;  /* the last K-buffer fill ran on OpenCL */
-    float seg_px_median; /* median projected segment length (pixels) of the last view pass */
+    sl_view_result view; /* the last view pass: K-buffer, counts, median segment length */
     /* per-strand absorption overrides (painted, or from the file's colours; docs/frame.md):
      * 3 floats (sigma_a r, g, b) per strand, or NULL: every strand uses the material's sigma_a.
      * Set with sl_renderer_set_strand_sigma_a; the key is part of the shading pass's inputs

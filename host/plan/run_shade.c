@@ -38,7 +38,7 @@ static int shading_rate(const sl_renderer *r, const sl_scene *s) {
      * linear interpolation would visibly flatten highlights; segments shorter than a pixel
      * are shaded every k-th vertex, k = floor(2 px / length), so shaded points stay about
      * 2 px apart on screen (k <= 8) */
-    float L = r->seg_px_median;
+    float L = r->view.seg_px_median;
     if (L >= s->auto_fragment_px) return 0;
     int k = L > 0 ? (int)floorf(2.0f / L) : 8;
     return k < 1 ? 1 : (k > 8 ? 8 : k);
@@ -102,7 +102,7 @@ int sl_pass_shade(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
         "(%.1f per point, quality.point_threshold %.3g)%s, SRBF %s on %s",
         ratebuf,
         strcmp(s->shading_rate, "auto") ? "quality.shading_rate" : "auto, quality.auto_fragment_px",
-        r->seg_px_median, pts->n, lobes_eval, pts->n ? lobes_eval / pts->n : 0.0,
+        r->view.seg_px_median, pts->n, lobes_eval, pts->n ? lobes_eval / pts->n : 0.0,
         s->point_threshold, r->strand_sigma_a ? ", per-strand sigma_a" : "",
         sl_render_method_name(r->srbf_used),
         sl_frame_srbf_on_device(r) ? "OpenCL"

@@ -18,28 +18,23 @@ uint64_t sl_view_settings(const sl_renderer *r, const sl_frame_inputs *in) {
 /* The view pass on the renderer's K-buffer (the reference's fragment mode calls sl_view_pass
  * the same way). */
 int sl_frame_view(sl_renderer *r, const sl_hair *h, const sl_camera *cam, int K, sl_err *e) {
-    sl_view_result v = {r->vw, r->vh, r->vK, r->kbuf, r->kcount, r->frags, r->merges,
-                        r->kbuf_on_device, r->seg_px_median};
-    int rc = sl_view_pass(r->dev, sl_frame_threads(r), sl_frame_srbf_on_device(r), h, cam, K, &v, e);
-    r->vw = v.w, r->vh = v.h, r->vK = v.K;
-    r->kbuf = v.kbuf, r->kcount = v.kcount;
-    r->frags = v.frags, r->merges = v.merges;
-    r->kbuf_on_device = v.on_device, r->seg_px_median = v.seg_px_median;
-    return rc;
+    /* the K-buffer fill follows the same device rule as the SRBF response */
+    return sl_view_pass(r->dev, sl_frame_threads(r), sl_frame_srbf_on_device(r), h, cam, K,
+                        &r->view, e);
 }
 
 int sl_pass_view(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     int K = r->fw.K;
     if (sl_frame_view(r, in->h, in->cam, K, e)) return -1;
-    size_t npx = (size_t)r->vw * r->vh;
+    size_t npx = (size_t)r->view.w * r->view.h;
     int maxc = 0;
     for (size_t i = 0; i < npx; i++)
-        if (r->kcount[i] > maxc) maxc = r->kcount[i];
+        if (r->view.kcount[i] > maxc) maxc = r->view.kcount[i];
     sl_frame_why(r,
                  "%zu fragments, K=%d (deepest pixel %d), %zu merged on overflow or hidden "
                  "behind full coverage, "
                  "K-buffer on %s; %s",
-                 r->frags, K, maxc, r->merges, r->kbuf_on_device ? "OpenCL" : "C",
+                 r->view.frags, K, maxc, r->view.merges, r->view.on_device ? "OpenCL" : "C",
                  r->fw.transparent ? "per-point transparency applied"
                                    : "opaque hair: coverage only (transparency channel skipped)");
     return 0;

@@ -631,7 +631,7 @@ TEST(frame_estimate_covers_allocations) {
     sl_renderer *r = new_renderer(&dev, 2);
     sl_fbuf a;
     CHECK(frame_tiny_render(r, &t, &a) == 0);
-    double held = (double)r->vw * r->vh * (r->vK * sizeof(sl_kfrag) + 1) +
+    double held = (double)r->view.w * r->view.h * (r->view.K * sizeof(sl_kfrag) + 1) +
                   (double)a.width * a.height * SL_FBUF_FLOATS * sizeof(float);
     for (int j = 0; j < r->nlights; j++)
         held += (double)r->light[j].view.w * r->light[j].view.h * (4.0 + 8.0 * r->light[j].K);
