@@ -251,14 +251,17 @@ double sl_now(void) {
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-uint64_t sl_hash64(const void *data, size_t n, uint64_t seed) {
+uint64_t sl_hash64_more(uint64_t h, const void *data, size_t n) {
     const unsigned char *p = data;
-    uint64_t h = 1469598103934665603ull ^ seed;
     for (size_t i = 0; i < n; i++) {
         h ^= p[i];
         h *= 1099511628211ull;
     }
     return h;
+}
+
+uint64_t sl_hash64(const void *data, size_t n, uint64_t seed) {
+    return sl_hash64_more(SL_HASH64_BASIS ^ seed, data, n);
 }
 
 void sl_progress_begin(sl_progress *p, const char *label) {

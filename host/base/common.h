@@ -69,6 +69,10 @@ double sl_now(void);
 
 /* 64-bit FNV-1a, for cache keys. */
 uint64_t sl_hash64(const void *data, size_t n, uint64_t seed);
+/* FNV-1a 64 continued from state h over n more bytes, so that pieces hash as their
+ * concatenation: sl_hash64(d, n, seed) == sl_hash64_more(SL_HASH64_BASIS ^ seed, d, n). */
+#define SL_HASH64_BASIS 1469598103934665603ull
+uint64_t sl_hash64_more(uint64_t h, const void *data, size_t n);
 
 /* Progress bar on stderr when it is a terminal; silent otherwise. */
 typedef struct sl_progress {

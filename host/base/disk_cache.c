@@ -48,32 +48,18 @@ int sl_cache_path(char *out, size_t out_size, const char *dir, const char *stem,
 
 /* ---------------------------------------------------------------- hash */
 
-#define FNV_BASIS 1469598103934665603ull
-#define FNV_PRIME 1099511628211ull
-
-/* FNV-1a continued over more bytes (h starts at FNV_BASIS), so pieces hash as their
- * concatenation. */
-static uint64_t fnv_more(uint64_t h, const void *data, size_t n) {
-    const unsigned char *p = data;
-    for (size_t i = 0; i < n; i++) {
-        h ^= p[i];
-        h *= FNV_PRIME;
-    }
-    return h;
-}
-
 uint64_t sl_cache_hash(const void *data, size_t n) {
-    return fnv_more(FNV_BASIS, data, n);
+    return sl_hash64(data, n, 0);
 }
 
 int sl_cache_file_hash(const char *path, uint64_t *hash, uint64_t *bytes, sl_err *e) {
     FILE *fp = fopen(path, "rb");
     if (!fp) return sl_fail(e, "%s: %s", path, strerror(errno));
     unsigned char buf[1 << 16];
-    uint64_t h = FNV_BASIS, n = 0;
+    uint64_t h = SL_HASH64_BASIS, n = 0;
     size_t got;
     while ((got = fread(buf, 1, sizeof buf, fp)) > 0) {
-        h = fnv_more(h, buf, got);
+        h = sl_hash64_more(h, buf, got);
         n += got;
     }
     int bad = ferror(fp);
@@ -212,10 +198,10 @@ static int write_all(int fd, const void *data, size_t n) {
 
 int sl_cache_write(const char *path, uint32_t format, sl_cache_key key, const sl_cache_part *parts,
                    int nparts, int flags, sl_err *e) {
-    uint64_t n = 0, hash = FNV_BASIS;
+    uint64_t n = 0, hash = SL_HASH64_BASIS;
     for (int i = 0; i < nparts; i++) {
         n += parts[i].size;
-        hash = fnv_more(hash, parts[i].data, parts[i].size);
+        hash = sl_hash64_more(hash, parts[i].data, parts[i].size);
     }
     unsigned char h[HEAD_BYTES];
     head_pack(h, format, key, n, hash);

@@ -73,7 +73,7 @@ int sl_cache_probe(const char *path, uint32_t format, sl_cache_key key, size_t p
  * For files that keep a format of their own (cached reference EXRs) with the hash in a record
  * beside them. Returns 0 or -1 with e set. */
 int sl_cache_file_hash(const char *path, uint64_t *hash, uint64_t *bytes, sl_err *e);
-/* FNV-1a 64 of a buffer (the same function; sl_hash64(data, n, 0) gives the same value). */
+/* FNV-1a 64 of a buffer: sl_hash64(data, n, 0) (base/common.h). */
 uint64_t sl_cache_hash(const void *data, size_t n);
 
 #endif
