@@ -21,6 +21,11 @@ void sl_test_skip(const char *why);
 const char *sl_test_shared_data(void);
 /* A fresh scratch directory for this test run (under build dir). */
 const char *sl_test_tmpdir(void);
+/* out = a new empty directory sl_test_tmpdir()/name-PID (emptied if it exists); out[0] = 0 when
+ * it cannot be made. */
+void sl_test_fresh_dir(const char *name, char *out, size_t n);
+/* Files in dir whose name contains part (dot files aside), or -1 when dir cannot be read. */
+int sl_test_count_files(const char *dir, const char *part);
 int sl_test_failed_now(void);
 
 #define TEST(name)                                                                                 \

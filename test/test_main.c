@@ -1,6 +1,7 @@
 /* test_main.c: runner for the unit tests registered with TEST() (see test.h). */
 #include "test.h"
 
+#include <dirent.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -63,6 +64,24 @@ const char *sl_test_tmpdir(void) {
         mkdir(path, 0777);
     }
     return path;
+}
+
+void sl_test_fresh_dir(const char *name, char *out, size_t n) {
+    snprintf(out, n, "%s/%s-%ld", sl_test_tmpdir(), name, (long)getpid());
+    char cmd[8192];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mkdir -p '%s'", out, out);
+    if (system(cmd) != 0) out[0] = 0;
+}
+
+int sl_test_count_files(const char *dir, const char *part) {
+    DIR *d = opendir(dir);
+    if (!d) return -1;
+    int n = 0;
+    struct dirent *de;
+    while ((de = readdir(d)) != NULL)
+        if (de->d_name[0] != '.' && strstr(de->d_name, part)) n++;
+    closedir(d);
+    return n;
 }
 
 int main(int argc, char **argv) {

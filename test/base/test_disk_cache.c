@@ -15,24 +15,6 @@
 
 #define FORMAT 7u
 
-static void fresh_dir(const char *name, char *out, size_t n) {
-    snprintf(out, n, "%s/%s-%ld", sl_test_tmpdir(), name, (long)getpid());
-    char cmd[8192];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mkdir -p '%s'", out, out);
-    if (system(cmd) != 0) out[0] = 0;
-}
-
-static int count_files(const char *dir, const char *part) {
-    DIR *d = opendir(dir);
-    if (!d) return -1;
-    int n = 0;
-    struct dirent *de;
-    while ((de = readdir(d)) != NULL)
-        if (de->d_name[0] != '.' && strstr(de->d_name, part)) n++;
-    closedir(d);
-    return n;
-}
-
 /* Overwrites one byte of a file at offset (from the end when negative). */
 static void poke(const char *path, long offset, unsigned char v) {
     FILE *f = fopen(path, "r+b");
@@ -59,7 +41,7 @@ TEST(disk_cache_path_from_key) {
 
 TEST(disk_cache_round_trip) {
     char dir[4096], path[4600];
-    fresh_dir("dcache_rt", dir, sizeof dir);
+    sl_test_fresh_dir("dcache_rt", dir, sizeof dir);
     sl_cache_key key = {0xabcdef, 0x42};
     CHECK(sl_cache_path(path, sizeof path, dir, "rt", key, FORMAT));
     void *data = (void *)1;
@@ -74,7 +56,7 @@ TEST(disk_cache_round_trip) {
     free(data);
     CHECK(sl_cache_probe(path, FORMAT, key, 12));
     CHECK(!sl_cache_probe(path, FORMAT, key, 11));
-    CHECK(count_files(dir, ".tmp") == 0);
+    CHECK(sl_test_count_files(dir, ".tmp") == 0);
     /* an empty payload is an entry too */
     CHECK(write_entry(path, key, "", "") == 0);
     CHECK(sl_cache_read(path, FORMAT, key, 1 << 20, &data, &n, &e) == 0 && n == 0);
@@ -94,7 +76,7 @@ TEST(disk_cache_round_trip) {
  * the entry good again. */
 TEST(disk_cache_rejects_damage) {
     char dir[4096], path[4600];
-    fresh_dir("dcache_bad", dir, sizeof dir);
+    sl_test_fresh_dir("dcache_bad", dir, sizeof dir);
     sl_cache_key key = {7, 8};
     CHECK(sl_cache_path(path, sizeof path, dir, "bad", key, FORMAT));
     const char *payload = "0123456789abcdefghijklmnopqrstuvwxyz";
@@ -165,13 +147,13 @@ TEST(disk_cache_rejects_damage) {
     CHECK(sl_cache_read(path, FORMAT, key, 1 << 20, &data, &n, &e) == 0);
     CHECK(n == strlen(payload) && data && memcmp(data, payload, n) == 0);
     free(data);
-    CHECK(count_files(dir, ".tmp") == 0);
+    CHECK(sl_test_count_files(dir, ".tmp") == 0);
 }
 
 /* A write that cannot happen fails with a message and leaves nothing behind. */
 TEST(disk_cache_write_failure) {
     char dir[4096], path[4600], blocker[4200];
-    fresh_dir("dcache_fail", dir, sizeof dir);
+    sl_test_fresh_dir("dcache_fail", dir, sizeof dir);
     snprintf(blocker, sizeof blocker, "%s/file", dir);
     FILE *f = fopen(blocker, "wb");
     if (f) fclose(f);
@@ -180,7 +162,7 @@ TEST(disk_cache_write_failure) {
     sl_err e = {{0}};
     CHECK(sl_cache_write(path, FORMAT, (sl_cache_key){1, 0}, &part, 1, SL_CACHE_SYNC, &e) == -1);
     CHECK(e.msg[0] != 0);
-    CHECK(count_files(dir, ".tmp") == 0);
+    CHECK(sl_test_count_files(dir, ".tmp") == 0);
     /* SL_CACHE_SYNC on a good path */
     snprintf(path, sizeof path, "%s/new/dirs/y.bin", dir);
     CHECK(sl_cache_write(path, FORMAT, (sl_cache_key){1, 0}, &part, 1, SL_CACHE_SYNC, &e) == 0);
@@ -234,7 +216,7 @@ static void *writer_thread(void *p) {
  * one valid entry and no temporary file. */
 TEST(disk_cache_concurrent_writers) {
     char dir[4096], path[4600];
-    fresh_dir("dcache_conc", dir, sizeof dir);
+    sl_test_fresh_dir("dcache_conc", dir, sizeof dir);
     sl_cache_key key = {5, 5};
     CHECK(sl_cache_path(path, sizeof path, dir, "conc", key, FORMAT));
     enum { PROCS = 3, THREADS = 3 };
@@ -294,6 +276,6 @@ TEST(disk_cache_concurrent_writers) {
     CHECK(sl_cache_read(path, FORMAT, key, PAYLOAD, &data, &n, &e) == 0);
     CHECK(is_whole(data, n, PROCS + THREADS));
     free(data);
-    CHECK(count_files(dir, ".tmp") == 0);
-    CHECK(count_files(dir, ".bin") == 1);
+    CHECK(sl_test_count_files(dir, ".tmp") == 0);
+    CHECK(sl_test_count_files(dir, ".bin") == 1);
 }

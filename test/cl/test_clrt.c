@@ -42,26 +42,6 @@ static void env_restore(const saved_env *s) {
         unsetenv(s->name);
 }
 
-/* A fresh directory under the test tmpdir. */
-static void fresh_dir(const char *name, char *out, size_t n) {
-    snprintf(out, n, "%s/%s", sl_test_tmpdir(), name);
-    char cmd[8192];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mkdir -p '%s'", out, out);
-    if (system(cmd) != 0) out[0] = 0;
-}
-
-/* Counts files in dir whose name contains `part`. */
-static int count_files(const char *dir, const char *part) {
-    DIR *d = opendir(dir);
-    if (!d) return -1;
-    int n = 0;
-    struct dirent *de;
-    while ((de = readdir(d)) != NULL)
-        if (de->d_name[0] != '.' && strstr(de->d_name, part)) n++;
-    closedir(d);
-    return n;
-}
-
 /* Path of the first *.bin in dir whose name starts with prefix. */
 static int find_bin(const char *dir, const char *prefix, char *out, size_t n) {
     DIR *d = opendir(dir);
@@ -223,7 +203,7 @@ TEST(clrt_disk_cache) {
     saved_env s;
     env_save(&s, "SL_CACHE_DIR");
     char dir[4096];
-    fresh_dir("clrt_cache", dir, sizeof dir);
+    sl_test_fresh_dir("clrt_cache", dir, sizeof dir);
     CHECK(dir[0] != 0);
     setenv("SL_CACHE_DIR", dir, 1);
     sl_device dev;
@@ -239,8 +219,8 @@ TEST(clrt_disk_cache) {
     CHECK(k1 != NULL);
     sl_cl_build_stats(dev.cl, &src, &hit, NULL);
     CHECK(src == 1 && hit == 0);
-    CHECK(count_files(dir, ".bin") == 1);
-    CHECK(count_files(dir, ".tmp") == 0); /* written atomically */
+    CHECK(sl_test_count_files(dir, ".bin") == 1);
+    CHECK(sl_test_count_files(dir, ".tmp") == 0); /* written atomically */
     /* Same file and options: the in-memory cache, same kernel object, no new build. */
     CHECK(sl_cl_get_kernel(dev.cl, "prefix_sum.cl", "sl_transpose", NULL, &k2, &e) == 0);
     CHECK(k2 == k1);
@@ -250,7 +230,7 @@ TEST(clrt_disk_cache) {
     CHECK(k3 != NULL && k3 != k1);
     sl_cl_build_stats(dev.cl, &src, &hit, NULL);
     CHECK(src == 2 && hit == 0);
-    CHECK(count_files(dir, ".bin") == 2);
+    CHECK(sl_test_count_files(dir, ".bin") == 2);
     sl_device_close(&dev);
 
     /* Reopen: both come from disk now, and the cached program computes correctly. */
@@ -307,7 +287,7 @@ TEST(clrt_disk_cache) {
         CHECK_MSG(src == 0 && hit == 1, "round %d: from source %d, from cache %d", round, src, hit);
         sl_device_close(&dev);
     }
-    CHECK(count_files(dir, ".tmp") == 0);
+    CHECK(sl_test_count_files(dir, ".tmp") == 0);
     env_restore(&s);
 }
 
@@ -333,7 +313,7 @@ TEST(clrt_build_failure_explicit) {
     saved_env s;
     env_save(&s, "STRANDLIGHT_KERNELS");
     char dir[4096];
-    fresh_dir("clrt_broken_explicit", dir, sizeof dir);
+    sl_test_fresh_dir("clrt_broken_explicit", dir, sizeof dir);
     CHECK(make_broken_kernel_dir(dir) == 0);
     setenv("STRANDLIGHT_KERNELS", dir, 1);
     sl_device dev;
@@ -369,7 +349,7 @@ TEST(clrt_build_failure_auto_falls_back) {
     saved_env s;
     env_save(&s, "STRANDLIGHT_KERNELS");
     char dir[4096];
-    fresh_dir("clrt_broken_auto", dir, sizeof dir);
+    sl_test_fresh_dir("clrt_broken_auto", dir, sizeof dir);
     CHECK(make_broken_kernel_dir(dir) == 0);
     setenv("STRANDLIGHT_KERNELS", dir, 1);
     sl_device dev;
