@@ -28,33 +28,10 @@ int slcl_srbf_ren_enqueue(sl_cl *cl, const sl_srbf_ren_dims *d, cl_mem T, size_t
         "sl_srbf_ren_eval", e);
 }
 
-int slcl_srbf_ren_batch(sl_cl *cl, const sl_srbf_ren *t, size_t n, const float *in, float *out,
-                        sl_err *e) {
-    if (n == 0) return 0;
-    if (n > 0xffffffffu / 9) return sl_fail(e, "srbf table: too many rows (%zu)", n);
-    cl_context ctx = sl_cl_context(cl);
-    cl_int err;
-    cl_mem buf[3] = {NULL, NULL, NULL};
-    buf[0] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * 5 * sizeof(float),
-                            (void *)in, &err);
-    if (err == CL_SUCCESS)
-        buf[1] = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, n * 9 * sizeof(float), NULL, &err);
-    if (err == CL_SUCCESS)
-        buf[2] = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                t->n_floats * sizeof(float), t->T, &err);
-    int rc = sl_cl_check(err, "clCreateBuffer", e);
-    if (!rc) rc = slcl_srbf_ren_enqueue(cl, &t->dims, buf[2], n, buf[0], buf[1], e);
-    if (!rc)
-        rc = sl_cl_check(clEnqueueReadBuffer(sl_cl_queue(cl), buf[1], CL_TRUE, 0,
-                                             n * 9 * sizeof(float), out, 0, NULL, NULL),
-                         "clEnqueueReadBuffer", e);
-    for (int a = 0; a < 3; a++)
-        if (buf[a]) clReleaseMemObject(buf[a]);
-    return rc;
-}
-
 int slcl_srbf_ren_rows(sl_cl *cl, const sl_srbf_ren *t, cl_mem *table, const char *table_what,
                        size_t n, const float *in, float *out, sl_err *e) {
+    if (n == 0) return 0;
+    if (n > 0xffffffffu / 9) return sl_fail(e, "srbf table: too many rows (%zu)", n);
     cl_context ctx = sl_cl_context(cl);
     cl_int err = CL_SUCCESS;
     if (!*table) {
@@ -78,6 +55,15 @@ int slcl_srbf_ren_rows(sl_cl *cl, const sl_srbf_ren *t, cl_mem *table, const cha
                          "clEnqueueReadBuffer", e);
     if (bi) clReleaseMemObject(bi);
     if (bo) clReleaseMemObject(bo);
+    return rc;
+}
+
+/* One batch with the table uploaded for it alone. */
+int slcl_srbf_ren_batch(sl_cl *cl, const sl_srbf_ren *t, size_t n, const float *in, float *out,
+                        sl_err *e) {
+    cl_mem table = NULL;
+    int rc = slcl_srbf_ren_rows(cl, t, &table, "clCreateBuffer", n, in, out, e);
+    slcl_srbf_ren_table_release(&table);
     return rc;
 }
 
