@@ -102,20 +102,27 @@ SL_INLINE void sl_splat_begin(sl_splat *it, const SL_GLOBAL float *rec, sl_int w
     sl_splat_load(it);
 }
 
+/* Moves to the next sample and loads it; 0 past the last one (then it stays done: a later call
+ * steps past the last row again). */
+SL_INLINE int sl_splat_step(sl_splat *it) {
+    if (++it->j == it->nw) {
+        it->j = 0u;
+        if (++it->i >= it->na) {
+            it->i = it->na;
+            it->j = it->nw - 1u;
+            it->left = 0u;
+            return 0;
+        }
+    }
+    sl_splat_load(it);
+    return 1;
+}
+
 /* The next tent corner inside the map: texel (tx, ty), its share of the sample's mass and the
  * sample's depth z. Returns 0 when the record is done (and on every later call). */
 SL_INLINE int sl_splat_next(sl_splat *it, sl_int *tx, sl_int *ty, float *share, float *z) {
-    while (it->left == 0u) {
-        if (++it->j == it->nw) {
-            it->j = 0u;
-            if (++it->i >= it->na) {
-                it->i = it->na; /* stays done: the next call steps past the row again */
-                it->j = it->nw - 1u;
-                return 0;
-            }
-        }
-        sl_splat_load(it);
-    }
+    while (it->left == 0u)
+        if (!sl_splat_step(it)) return 0;
     const sl_uint l = it->left;
     const int c = sl_splat_low_bit(l); /* the lowest corner left */
     it->left = l & (l - 1u);
@@ -133,18 +140,7 @@ SL_INLINE int sl_splat_next(sl_splat *it, sl_int *tx, sl_int *ty, float *share, 
  * gives the texels in sl_splat_next's order. Returns 0 past the last sample. A walk uses either
  * this or sl_splat_next, not both. */
 SL_INLINE int sl_splat_next_sample(sl_splat *it) {
-    if (it->taken) {
-        if (++it->j == it->nw) {
-            it->j = 0u;
-            if (++it->i >= it->na) {
-                it->i = it->na;
-                it->j = it->nw - 1u;
-                it->left = 0u;
-                return 0;
-            }
-        }
-        sl_splat_load(it);
-    }
+    if (it->taken && !sl_splat_step(it)) return 0;
     it->taken = 1;
     return it->i < it->na;
 }
