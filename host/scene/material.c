@@ -11,6 +11,17 @@
 
 #define DEG (3.14159265358979323846 / 180.0)
 
+static void chiang_default(sl_chiang *c) {
+    memset(c, 0, sizeof *c);
+    c->melanin = 0.8;
+    c->melanin_redness = 1.0;
+    c->tint[0] = c->tint[1] = c->tint[2] = 1.0;
+    c->roughness = 0.3;
+    c->radial_roughness = 0.3;
+    c->coat = 0.0;
+    c->offset = 2.0 * DEG;
+}
+
 void sl_material_default(sl_material *m) {
     memset(m, 0, sizeof *m);
     m->model = SL_MODEL_MARSCHNER;
@@ -28,7 +39,52 @@ void sl_material_default(sl_material *m) {
     m->sigma_a[0] = m->sigma_a[1] = m->sigma_a[2] = 0.36;
     m->eccentricity = 1.0;
     m->caustic_width = 15.0 * DEG;
+    chiang_default(&m->chiang);
 }
+
+/* Cycles' Principled Hair mappings (numerics.md sec. 3). */
+double sl_chiang_variance(double bl) {
+    double b2 = bl * bl, b4 = b2 * b2, b8 = b4 * b4, b16 = b8 * b8;
+    double x = 0.726 * bl + 0.812 * b2 + 3.7 * b16 * b4;
+    return x * x;
+}
+
+double sl_chiang_logistic_scale(double b) {
+    double b2 = b * b, b4 = b2 * b2, b8 = b4 * b4, b16 = b8 * b8;
+    return 0.626657068657750126 * (0.265 * b + 1.194 * b2 + 5.372 * b16 * b4 * b2);
+}
+
+void sl_chiang_sigma_a_rgb(const sl_chiang *c, double sigma_a[3]) {
+    double q = -log(fmax(1.0 - c->melanin, 1e-4));
+    double eu = q * (1.0 - c->melanin_redness), ph = q * c->melanin_redness;
+    static const double ce[3] = {0.506, 0.841, 1.653}, cp[3] = {0.343, 0.733, 1.924};
+    double b = c->radial_roughness, b2 = b * b, b3 = b2 * b, b4 = b3 * b, b5 = b4 * b;
+    double den = 5.969 - 0.215 * b + 2.532 * b2 - 10.73 * b3 + 5.574 * b4 + 0.245 * b5;
+    for (int i = 0; i < 3; i++) {
+        double t = log(c->tint[i]) / den;
+        sigma_a[i] = eu * ce[i] + ph * cp[i] + t * t;
+    }
+}
+
+void sl_chiang_derive(sl_material *m) {
+    const sl_chiang *c = &m->chiang;
+    double v0 = sl_chiang_variance(c->roughness);
+    double vr = sl_chiang_variance(c->roughness * (1.0 - c->coat));
+    m->beta[0] = sqrt(vr);
+    m->beta[1] = sqrt(v0 / 4.0);
+    m->beta[2] = sqrt(4.0 * v0);
+    m->alpha[0] = c->offset;
+    m->alpha[1] = -c->offset / 2.0;
+    m->alpha[2] = -2.0 * c->offset;
+    m->logistic_s = sl_chiang_logistic_scale(c->radial_roughness);
+    m->orders = 2;
+    m->fresnel = SL_FRESNEL_EXACT;
+    if (!c->sigma_a_given) {
+        sl_chiang_sigma_a_rgb(c, m->sigma_a);
+        m->sigma_a_rgb = 1;
+    }
+}
+
 
 void sl_material_to_fiber(const sl_material *m, int channel, sl_fiber_params *fp) {
     memset(fp, 0, sizeof *fp);
@@ -40,6 +96,7 @@ void sl_material_to_fiber(const sl_material *m, int channel, sl_fiber_params *fp
     fp->eccentricity = (float)m->eccentricity;
     fp->caustic_width = (float)m->caustic_width;
     fp->sigma_a = (float)m->sigma_a[channel];
+    fp->logistic_s = (float)m->logistic_s;
     for (int t = 0; t < 3; t++) {
         fp->alpha[t] = (float)m->alpha[t];
         fp->beta[t] = (float)m->beta[t];
@@ -180,6 +237,99 @@ static int read_orders(const mctx *c, const cJSON *obj, sl_material *m, sl_err *
     return 0;
 }
 
+/* A number in [lo, hi] (open at an end where lo_open / hi_open). */
+static int read_ranged(const mctx *c, const cJSON *obj, const char *key, double lo, int lo_open,
+                       double hi, int hi_open, double *out, sl_err *e) {
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!v) return 0;
+    double d = 0;
+    if (read_number(c, v, key, &d, e)) return -1;
+    if ((lo_open ? !(d > lo) : !(d >= lo)) || (hi_open ? !(d < hi) : !(d <= hi))) {
+        char msg[96];
+        snprintf(msg, sizeof msg, "must be in %c%g, %g%c", lo_open ? '(' : '[', lo, hi,
+                 hi_open ? ')' : ']');
+        return key_fail(c, key, msg, e);
+    }
+    *out = d;
+    return 0;
+}
+
+/* model "chiang": Blender's Principled Hair parameters (numerics.md sec. 2). */
+static int read_chiang(const mctx *c, const cJSON *obj, sl_material *m, sl_err *e) {
+    static const char *const keys[] = {
+        "model",      "melanin", "melanin_redness", "tint", "roughness", "radial_roughness", "coat",
+        "offset_deg", "eta",     "sigma_a",         NULL};
+    for (const cJSON *it = obj->child; it; it = it->next) {
+        const char *k = it->string ? it->string : "";
+        int ok = 0;
+        for (const char *const *a = keys; *a; a++)
+            if (strcmp(k, *a) == 0) ok = 1;
+        static const char *const other[] = {"alpha_R_deg",
+                                            "beta_R_deg",
+                                            "alpha_TT_deg",
+                                            "beta_TT_deg",
+                                            "alpha_TRT_deg",
+                                            "beta_TRT_deg",
+                                            "eccentricity",
+                                            "caustic_width_deg",
+                                            "fresnel",
+                                            "orders",
+                                            NULL};
+        for (const char *const *a = other; *a && !ok; a++)
+            if (strcmp(k, *a) == 0)
+                return key_fail(c, k,
+                                "not a key of model \"chiang\" (its keys: melanin, "
+                                "melanin_redness, tint, roughness, radial_roughness, coat, "
+                                "offset_deg, eta, sigma_a)",
+                                e);
+    }
+    if (check_keys(c, obj, keys, e)) return -1;
+    sl_chiang *ch = &m->chiang;
+    const cJSON *sa = cJSON_GetObjectItemCaseSensitive(obj, "sigma_a");
+    static const char *const pig[] = {"melanin", "melanin_redness", "tint", NULL};
+    for (const char *const *k = pig; *k; k++)
+        if (sa && cJSON_GetObjectItemCaseSensitive(obj, *k))
+            return key_fail(c, *k, "cannot be given together with sigma_a (choose one)", e);
+    const cJSON *mel = cJSON_GetObjectItemCaseSensitive(obj, "melanin");
+    if (mel && !cJSON_IsNumber(mel))
+        return key_fail(c, "melanin",
+                        "expected a number in [0, 1] with model \"chiang\" (the eumelanin / "
+                        "pheomelanin object is for marschner and deon)",
+                        e);
+    if (read_ranged(c, obj, "melanin", 0, 0, 1, 0, &ch->melanin, e)) return -1;
+    if (read_ranged(c, obj, "melanin_redness", 0, 0, 1, 0, &ch->melanin_redness, e)) return -1;
+    const cJSON *t = cJSON_GetObjectItemCaseSensitive(obj, "tint");
+    if (t) {
+        if (!cJSON_IsArray(t) || cJSON_GetArraySize(t) != 3)
+            return key_fail(c, "tint", "expected an array of 3 numbers [r, g, b] in (0, 1]", e);
+        int i = 0;
+        for (const cJSON *it = t->child; it; it = it->next, i++) {
+            char k[32];
+            snprintf(k, sizeof k, "tint[%d]", i);
+            if (read_number(c, it, k, &ch->tint[i], e)) return -1;
+            if (!(ch->tint[i] > 0 && ch->tint[i] <= 1))
+                return key_fail(c, k, "must be in (0, 1]", e);
+        }
+    }
+    if (read_ranged(c, obj, "roughness", 0, 1, 1, 0, &ch->roughness, e)) return -1;
+    if (read_ranged(c, obj, "radial_roughness", 0, 1, 1, 0, &ch->radial_roughness, e)) return -1;
+    if (read_ranged(c, obj, "coat", 0, 0, 1, 1, &ch->coat, e)) return -1;
+    double off = ch->offset / DEG;
+    if (read_ranged(c, obj, "offset_deg", -45, 0, 45, 0, &off, e)) return -1;
+    ch->offset = off * DEG;
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, "eta");
+    if (v) {
+        if (read_number(c, v, "eta", &m->eta, e)) return -1;
+        if (!(m->eta > 1)) return key_fail(c, "eta", "must be > 1", e);
+    }
+    if (sa) {
+        if (read_sigma_a(c, sa, m, e)) return -1;
+        ch->sigma_a_given = 1;
+    }
+    sl_chiang_derive(m);
+    return 0;
+}
+
 int sl_material_from_json(const cJSON *obj, const char *file, const char *key_prefix,
                           sl_material *m, sl_err *e) {
     mctx c = {file ? file : "material", key_prefix ? key_prefix : ""};
@@ -193,8 +343,22 @@ int sl_material_from_json(const cJSON *obj, const char *file, const char *key_pr
                                        "alpha_TRT_deg", "beta_TRT_deg", "sigma_a",
                                        "melanin",       "eccentricity", "caustic_width_deg",
                                        "fresnel",       "orders",       NULL};
+    const cJSON *mv = cJSON_GetObjectItemCaseSensitive(obj, "model");
+    if (cJSON_IsString(mv) && mv->valuestring && strcmp(mv->valuestring, "chiang") == 0) {
+        m->model = SL_MODEL_CHIANG;
+        return read_chiang(&c, obj, m, e);
+    }
+    static const char *const chiang_only[] = {
+        "melanin_redness", "tint", "roughness", "radial_roughness", "coat", "offset_deg", NULL};
+    for (const char *const *k = chiang_only; *k; k++)
+        if (cJSON_GetObjectItemCaseSensitive(obj, *k))
+            return key_fail(&c, *k, "is a key of model \"chiang\" only", e);
     if (check_keys(&c, obj, keys, e)) return -1;
 
+    if (mv &&
+        !(cJSON_IsString(mv) && mv->valuestring &&
+          (strcmp(mv->valuestring, "marschner") == 0 || strcmp(mv->valuestring, "deon") == 0)))
+        return key_fail(&c, "model", "expected \"marschner\", \"deon\" or \"chiang\"", e);
     if (read_choice(&c, obj, "model", "marschner", "deon", &m->model, e)) return -1;
     if (read_choice(&c, obj, "fresnel", "exact", "schlick", &m->fresnel, e)) return -1;
     if (m->model == SL_MODEL_DEON && m->fresnel == SL_FRESNEL_SCHLICK)

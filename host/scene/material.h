@@ -14,7 +14,7 @@
 
 #include <cjson/cJSON.h>
 
-enum { SL_MODEL_MARSCHNER = 0, SL_MODEL_DEON = 1 };
+enum { SL_MODEL_MARSCHNER = 0, SL_MODEL_DEON = 1, SL_MODEL_CHIANG = 2 };
 enum { SL_FRESNEL_EXACT = 0, SL_FRESNEL_SCHLICK = 1 };
 
 /* Largest `orders` a material file may ask for. The float backends (C twin, OpenCL) allow at
@@ -22,6 +22,21 @@ enum { SL_FRESNEL_EXACT = 0, SL_FRESNEL_SCHLICK = 1 };
  * The bound keeps the output width (orders + 3 columns) and the reference's run time sane (about
  * 12 ms of CPU per order per scatter row); orders above it are still counted, in f_rest. */
 #define SL_MATERIAL_MAX_ORDERS 256
+
+/* The Principled Hair (Chiang 2016, Blender/Cycles) parameters of model chiang as the user gave
+ * them (numerics.md sec. 2); sl_material_from_json derives the model's quantities from them into
+ * sl_material (docs/models.md): v_p = beta[p]^2, the cuticle shifts in alpha[] (d'Eon form:
+ * theta_o - 2 alpha[p]), logistic_s, and sigma_a unless it was given directly. */
+typedef struct sl_chiang {
+    double melanin;          /* 0..1 */
+    double melanin_redness;  /* 0..1 */
+    double tint[3];          /* (0, 1] */
+    double roughness;        /* (0, 1]: longitudinal, b_l */
+    double radial_roughness; /* (0, 1]: azimuthal, b */
+    double coat;             /* [0, 1) */
+    double offset;           /* cuticle tilt alpha, radians (offset_deg) */
+    int sigma_a_given;       /* 1: sigma_a came from the file, not from melanin and tint */
+} sl_chiang;
 
 typedef struct sl_material {
     int model;            /* SL_MODEL_* */
@@ -34,7 +49,19 @@ typedef struct sl_material {
     int sigma_a_rgb;      /* 1 when given as [r,g,b] or from melanin: outputs get _r/_g/_b */
     double eccentricity;  /* a of Xu Eq. 24 (TRT only) */
     double caustic_width; /* w_c, radians */
+    double logistic_s;    /* chiang: azimuthal logistic scale s */
+    sl_chiang chiang;     /* chiang: the user's parameters (the model uses the derived fields) */
 } sl_material;
+
+/* Chiang / Cycles mappings (numerics.md sec. 3), exposed for the tests and docs:
+ * longitudinal variance v for a roughness b_l, logistic scale s for a radial roughness b, and
+ * sigma_a from melanin, redness, tint and radial roughness (rgb). */
+double sl_chiang_variance(double roughness);
+double sl_chiang_logistic_scale(double radial_roughness);
+void sl_chiang_sigma_a_rgb(const sl_chiang *c, double sigma_a[3]);
+/* Recomputes the derived fields (alpha, beta, logistic_s, and sigma_a unless given) of a chiang
+ * material from m->chiang: for code that builds a material without JSON (tests). */
+void sl_chiang_derive(sl_material *m);
 
 /* The defaults of numerics.md section 2. */
 void sl_material_default(sl_material *m);
