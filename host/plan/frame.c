@@ -26,7 +26,7 @@
 void sl_render_opts_default(sl_render_opts *o) {
     memset(o, 0, sizeof *o);
     o->srbf_method = SL_RENDER_SRBF_AUTO;
-    o->segments = 4;
+    o->segments = 0; /* the scene's quality.segments_m */
     o->lobe_threshold = -1; /* the scene's quality.lobe_threshold */
 }
 
@@ -358,6 +358,7 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     memset(w, 0, sizeof *w);
     if (sl_shading_rate_parse(s->shading_rate, &w->rate, e)) return -1;
     w->K = sl_frame_oit_k(s);
+    w->segments = r->o.segments > 0 ? r->o.segments : s->segments_m;
     w->transparent = sl_frame_hair_transparent(h);
     sl_frame_inputs in = {s, h, lobes, cam, out};
     sl_frame_hash_inputs(&in, r->data_hash);

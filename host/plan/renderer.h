@@ -20,6 +20,7 @@ typedef struct sl_frame_work {
     int extra_maps; /* deep opacity maps beyond one per used lobe */
     int rate;       /* quality.shading_rate parsed: -1 auto, 0 fragment, k vertex */
     int K;          /* K-buffer entries per pixel (sl_frame_oit_k) */
+    int segments;   /* m of Xu's form: --segments, else quality.segments_m */
     int transparent;
     sl_shade_points pts;
     sl_shade_map sm;

@@ -119,3 +119,14 @@ if have_cl; then
 else
     skip render_deon_opencl "no OpenCL device"
 fi
+
+# quality.segments_m is Xu's m: under --method xu m = 1 and m = 4 must give different images (it
+# used to be parsed and then ignored, every m rendering as 4)
+for m in 1 4; do
+    sed "s/\"multiple_scattering\": \"auto\"/\"multiple_scattering\": \"off\", \"segments_m\": $m/" \
+        "$D/plain.json" > "$D/seg$m.json"
+    "$SL" render "$D/seg$m.json" --device c --method xu --exr "$D/seg$m.exr" 2>/dev/null
+done
+if [ -s "$D/seg1.exr" ] && [ -s "$D/seg4.exr" ] && ! cmp -s "$D/seg1.exr" "$D/seg4.exr"; then
+    pass render_segments_m_honoured
+else fail render_segments_m_honoured "segments_m 1 and 4 rendered the same image (or none)"; fi
