@@ -27,8 +27,9 @@ static const char *usage_text =
     "\n"
     "Renders SCENE.json (format: ../shared/spec/scene.md, README) to an OpenEXR file and a PNG\n"
     "preview (docs/frame.md). Options override the scene's settings:\n"
-    "  --exr FILE          EXR output (default: output.exr of the scene, else out/frame.exr)\n"
-    "  --png FILE          PNG preview (default: output.png of the scene, if any)\n"
+    "  -o, --exr FILE      EXR output (default: output.exr of the scene, else out/frame.exr)\n"
+    "  --png FILE          PNG preview (default: output.png of the scene, if any, unless an\n"
+    "                      EXR was named on the command line: -o alone writes only that EXR)\n"
     "  --width W, --height H   image size\n"
     "  --device SPEC       auto|gpu|pocl|c|opencl|P:D (default auto)\n"
     "  --aov LIST          AOVs to add, comma-separated: R,TT,TRT,MS,shadow,lobes,depth,alpha\n"
@@ -185,6 +186,8 @@ int cmd_render(int argc, char **argv) {
             fputs(usage_text, stdout);
             return 0;
         } else if (cli_opt(argc, argv, &i, "--exr", &exr, &missing) ||
+                   cli_opt(argc, argv, &i, "-o", &exr, &missing) ||
+                   cli_opt(argc, argv, &i, "--output", &exr, &missing) ||
                    cli_opt(argc, argv, &i, "--png", &png, &missing) ||
                    cli_opt(argc, argv, &i, "--device", &device, &missing) ||
                    cli_opt(argc, argv, &i, "--shading-rate", &rate, &missing) ||
@@ -270,7 +273,9 @@ int cmd_render(int argc, char **argv) {
     const double *target = in.target;
     const sl_camera cam0 = in.cam;
     const char *exr_path = exr ? exr : (s->out_exr[0] ? s->out_exr : "out/frame.exr");
-    const char *png_path = png ? png : s->out_png;
+    /* An EXR named on the command line is this run's output: the scene's PNG would otherwise be
+     * overwritten by a render that was asked for somewhere else (issue 22). */
+    const char *png_path = png ? png : (exr ? NULL : s->out_png);
     r = sl_renderer_create(&dev, &ro);
     /* material.strand_sigma_a: per-strand absorption (docs/formats.md) */
     if (in.strand_sigma_a &&
@@ -305,9 +310,10 @@ int cmd_render(int argc, char **argv) {
             sl_renderer_explain(r, stdout);
             fflush(stdout);
         }
-        sl_note("render: frame %ld: %u strands, %dx%d, %d of %d lobes -> %s%s%s (%.2f s)", f,
-                h->num_strands, s->width, s->height, sl_renderer_lobes_used(r), lobes->count, exr_f,
-                png_f[0] ? " + " : "", png_f, sl_now() - tf);
+        sl_note("render: frame %ld: %u strands, %dx%d, model %s, %d of %d lobes -> %s%s%s (%.2f s)",
+                f, h->num_strands, s->width, s->height, sl_material_model_name(s->material.model),
+                sl_renderer_lobes_used(r), lobes->count, exr_f, png_f[0] ? " + " : "", png_f,
+                sl_now() - tf);
     }
     sl_note("render: done in %.2f s on %s", sl_now() - t0, dev.name);
     rc = 0;

@@ -31,7 +31,8 @@ static void usage(FILE *fp) {
                 "commands:\n");
     for (size_t i = 0; i < NUM_COMMANDS; i++)
         fprintf(fp, "  %-10s %s\n", commands[i].name, commands[i].summary);
-    fprintf(fp, "\n  --version  print the version\n");
+    fprintf(fp, "\n  help COMMAND   the options of COMMAND (same as COMMAND --help)\n"
+                "  -V, --version  print the version\n");
 }
 
 int main(int argc, char **argv) {
@@ -43,7 +44,22 @@ int main(int argc, char **argv) {
         usage(stdout);
         return 0;
     }
-    if (strcmp(argv[1], "--version") == 0 || strcmp(argv[1], "version") == 0) {
+    if (strcmp(argv[1], "help") == 0 && argc >= 3) {
+        for (size_t i = 0; i < NUM_COMMANDS; i++)
+            if (strcmp(argv[2], commands[i].name) == 0) {
+                char *hargv[] = {argv[2], "--help", NULL};
+                return commands[i].run(2, hargv);
+            }
+        fprintf(stderr, "strandlight: help: unknown command '%s' (see 'strandlight --help')\n",
+                argv[2]);
+        return 2;
+    }
+    if (strcmp(argv[1], "help") == 0) {
+        usage(stdout);
+        return 0;
+    }
+    if (strcmp(argv[1], "--version") == 0 || strcmp(argv[1], "-V") == 0 ||
+        strcmp(argv[1], "version") == 0) {
         printf("strandlight %s\n", SL_VERSION);
         return 0;
     }

@@ -22,6 +22,10 @@ static void chiang_default(sl_chiang *c) {
     c->offset = 2.0 * DEG;
 }
 
+const char *sl_material_model_name(int model) {
+    return model == SL_MODEL_DEON ? "deon" : model == SL_MODEL_CHIANG ? "chiang" : "marschner";
+}
+
 void sl_material_default(sl_material *m) {
     memset(m, 0, sizeof *m);
     m->model = SL_MODEL_MARSCHNER;

@@ -130,3 +130,13 @@ done
 if [ -s "$D/seg1.exr" ] && [ -s "$D/seg4.exr" ] && ! cmp -s "$D/seg1.exr" "$D/seg4.exr"; then
     pass render_segments_m_honoured
 else fail render_segments_m_honoured "segments_m 1 and 4 rendered the same image (or none)"; fi
+
+# -o names the EXR; an EXR named on the command line writes no PNG unless --png is given (the
+# scene's output.png would have been overwritten by a render asked for elsewhere)
+scene withpng "[0.18, 0.32, 0.62]" ', "png": "out/withpng.png"'
+rm -rf "$D/out"
+expect_ok render_o_exr "$SL" render "$D/withpng.json" --device c -o "$D/o.exr"
+if [ -s "$D/o.exr" ] && [ ! -e "$D/out/withpng.png" ]; then pass render_o_no_scene_png
+else fail render_o_no_scene_png "o.exr missing or the scene's PNG written"; fi
+expect_ok render_o_png "$SL" render "$D/withpng.json" --device c -o "$D/o2.exr" --png "$D/o2.png"
+if [ -s "$D/o2.png" ]; then pass render_o_with_png; else fail render_o_with_png "no PNG"; fi
