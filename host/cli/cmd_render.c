@@ -77,8 +77,8 @@ static int parse_aovs(const char *list, int *mask) {
 }
 
 /* Resource limits (docs/robustness.md sec. 4). Before any work, the frame's largest buffers are
- * estimated from the scene's settings (sl_frame_estimate, host/plan/frame.h: the same size rules the
- * passes allocate with) and the request is refused, with the setting to lower, when they exceed
+ * estimated from the scene's settings (sl_frame_estimate, host/plan/frame.h: the same size rules
+ * the passes allocate with) and the request is refused, with the setting to lower, when they exceed
  * the host budget (SL_RENDER_MEM_MB, default half of physical memory) or, on OpenCL, when one
  * device buffer exceeds CL_DEVICE_MAX_MEM_ALLOC_SIZE. */
 static double render_budget(const char **why) {

@@ -26,9 +26,10 @@ static const command commands[] = {
 #define NUM_COMMANDS (sizeof commands / sizeof commands[0])
 
 static void usage(FILE *fp) {
-    fprintf(fp, "usage: strandlight COMMAND [options]   (strandlight COMMAND --help for details)\n\n"
-                "Renders strand hair under SRBF environment lighting (OpenCL, with a C path).\n\n"
-                "commands:\n");
+    fprintf(fp,
+            "usage: strandlight COMMAND [options]   (strandlight COMMAND --help for details)\n\n"
+            "Renders strand hair under SRBF environment lighting (OpenCL, with a C path).\n\n"
+            "commands:\n");
     for (size_t i = 0; i < NUM_COMMANDS; i++)
         fprintf(fp, "  %-10s %s\n", commands[i].name, commands[i].summary);
     fprintf(fp, "\n  help COMMAND   the options of COMMAND (same as COMMAND --help)\n"

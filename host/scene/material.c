@@ -89,7 +89,6 @@ void sl_chiang_derive(sl_material *m) {
     }
 }
 
-
 void sl_material_to_fiber(const sl_material *m, int channel, sl_fiber_params *fp) {
     memset(fp, 0, sizeof *fp);
     if (channel < 0 || channel > 2) channel = 0;
