@@ -30,6 +30,9 @@ static const char *usage_text =
     "  -o, --exr FILE      EXR output (default: output.exr of the scene, else out/frame.exr)\n"
     "  --png FILE          PNG preview (default: output.png of the scene, if any, unless an\n"
     "                      EXR was named on the command line: -o alone writes only that EXR)\n"
+    "  --exposure STOPS    PNG preview exposure in stops (default output.exposure, 0): the\n"
+    "                      preview is 2^STOPS x linear radiance, ACES filmic tone map, sRGB;\n"
+    "                      the EXR always holds linear radiance\n"
     "  --width W, --height H   image size\n"
     "  --device SPEC       auto|gpu|pocl|c|opencl|P:D (default auto)\n"
     "  --aov LIST          AOVs to add, comma-separated: R,TT,TRT,MS,shadow,lobes,depth,alpha\n"
@@ -137,7 +140,7 @@ static void frame_path(const char *path, int frame, char *out, size_t n) {
 }
 
 static int write_outputs(const sl_fbuf *f, int aovs, const char *exr, const char *png,
-                         int use_float, sl_err *e) {
+                         int use_float, double exposure, sl_err *e) {
     size_t n = (size_t)f->width * f->height;
     sl_exr_channel ch[32];
     int nch = 0;
@@ -170,7 +173,8 @@ static int write_outputs(const sl_fbuf *f, int aovs, const char *exr, const char
     free(planes);
     free(mp);
     if (rc) return -1;
-    if (png && png[0] && sl_png_write(png, f->width, f->height, f->rgba, 0.0f, e)) return -1;
+    if (png && png[0] && sl_png_write(png, f->width, f->height, f->rgba, (float)exposure, e))
+        return -1;
     return 0;
 }
 
@@ -178,7 +182,8 @@ int cmd_render(int argc, char **argv) {
     const char *scene_path = NULL, *exr = NULL, *png = NULL, *device = "auto", *v;
     const char *rate = NULL, *frames = NULL;
     long width = 0, height = 0, orbit = 0, threads = 0;
-    int clamp_nonfinite = 0, missing = 0, explain = 0, aovs = 0, aov_given = 0;
+    int clamp_nonfinite = 0, missing = 0, explain = 0, aovs = 0, aov_given = 0, exposure_given = 0;
+    double exposure = 0.0;
     sl_render_opts ro;
     sl_render_opts_default(&ro);
     for (int i = 1; i < argc; i++) {
@@ -201,6 +206,14 @@ int cmd_render(int argc, char **argv) {
             sl_err me;
             if (sl_render_method_parse(v, &ro.srbf_method, &me))
                 return cli_usage_error("render", "--method: %s", me.msg);
+        } else if (cli_opt(argc, argv, &i, "--exposure", &v, &missing)) {
+            char *end = NULL;
+            if (missing) return 2;
+            exposure = strtod(v, &end);
+            if (end == v || *end || !isfinite(exposure) || fabs(exposure) > 30)
+                return cli_usage_error("render",
+                                       "--exposure: expected stops in [-30, 30], got \"%s\"", v);
+            exposure_given = 1;
         } else if (cli_opt(argc, argv, &i, "--width", &v, &missing)) {
             if (missing || cli_int("render", "--width", v, 1, 16384, &width)) return 2;
         } else if (cli_opt(argc, argv, &i, "--height", &v, &missing)) {
@@ -302,7 +315,8 @@ int cmd_render(int argc, char **argv) {
         sl_fbuf fbuf;
         double tf = sl_now();
         if (sl_renderer_frame(r, s, h, lobes, &cam, &fbuf, &e)) goto done;
-        int wrc = write_outputs(&fbuf, aovs, exr_f, png_f, s->exr_float, &e);
+        int wrc = write_outputs(&fbuf, aovs, exr_f, png_f, s->exr_float,
+                                exposure_given ? exposure : s->exposure, &e);
         sl_fbuf_free(&fbuf);
         if (wrc) goto done;
         if (explain) {

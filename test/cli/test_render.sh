@@ -140,3 +140,19 @@ if [ -s "$D/o.exr" ] && [ ! -e "$D/out/withpng.png" ]; then pass render_o_no_sce
 else fail render_o_no_scene_png "o.exr missing or the scene's PNG written"; fi
 expect_ok render_o_png "$SL" render "$D/withpng.json" --device c -o "$D/o2.exr" --png "$D/o2.png"
 if [ -s "$D/o2.png" ]; then pass render_o_with_png; else fail render_o_with_png "no PNG"; fi
+
+# --exposure / output.exposure change the PNG preview only (the EXR stays linear radiance);
+# a darker exposure gives a darker PNG
+expect_ok render_exposure0 "$SL" render "$D/plain.json" --device c -o "$D/e0.exr" --png "$D/e0.png"
+expect_ok render_exposure_m2 "$SL" render "$D/plain.json" --device c -o "$D/e2.exr" --png "$D/e2.png" --exposure -2
+if cmp -s "$D/e0.exr" "$D/e2.exr" && ! cmp -s "$D/e0.png" "$D/e2.png"; then pass render_exposure_png_only
+else fail render_exposure_png_only "EXR changed or PNG unchanged"; fi
+sed 's/"output": {/"output": {"exposure": -2, /' "$D/plain.json" > "$D/expo.json"
+expect_ok render_exposure_key "$SL" render "$D/expo.json" --device c -o "$D/e3.exr" --png "$D/e3.png"
+if cmp -s "$D/e2.png" "$D/e3.png"; then pass render_exposure_key_same; else fail render_exposure_key_same "output.exposure -2 differs from --exposure -2"; fi
+err=$("$SL" render "$D/plain.json" --device c --exposure x -o "$D/e4.exr" 2>&1); rc=$?
+if [ "$rc" -eq 2 ] && printf '%s' "$err" | grep -q -- '--exposure: expected stops' && [ ! -e "$D/e4.exr" ]; then
+    pass render_exposure_bad # a usage error: exit 2
+else fail render_exposure_bad "exit $rc: $err"; fi
+sed 's/"output": {/"output": {"exposure": "bright", /' "$D/plain.json" > "$D/expob.json"
+expect_error render_exposure_key_bad "output.exposure: expected a number" "$SL" render "$D/expob.json" --device c -o "$D/e5.exr"
