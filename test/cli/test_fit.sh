@@ -62,3 +62,10 @@ if have_shared; then
 else
     skip fit_shared_map "no shared data"
 fi
+
+# fit's lobe count has an upper bound with its reason (100000 used to be accepted and ran for
+# hours without a word); nothing is written
+err=$("$SL" fit data/env/city_256.hdr --lobes 100000 -o "$TMP/fit_big.json" 2>&1); rc=$?
+if [ "$rc" -eq 2 ] && printf '%s' "$err" | grep -q 'at most 512 (the fit.s cost grows' && [ ! -e "$TMP/fit_big.json" ]; then
+    pass fit_lobes_upper_bound
+else fail fit_lobes_upper_bound "exit $rc: $err"; fi
