@@ -33,6 +33,8 @@ int sl_scene_inputs_open(const char *scene_path, const sl_scene_inputs_opts *o, 
 /* An error in a file the scene refers to names the scene and the key too: "scene.json:
  * environment.file: maps/x.hdr: No such file or directory" (the file's own message follows). */
 static int in_scene(const sl_scene *s, const char *key, sl_err *e) {
+    size_t np = strlen(s->path);
+    if (np && strncmp(e->msg, s->path, np) == 0 && e->msg[np] == ':') return -1; /* named already */
     char msg[sizeof e->msg];
     snprintf(msg, sizeof msg, "%s", e->msg);
     return sl_fail(e, "%s: %s: %s", s->path[0] ? s->path : "scene", key, msg);
