@@ -158,6 +158,37 @@ void sl_temp_name(const char *path, char *tmp, size_t tmp_size) {
     snprintf(temp_ring[slot], sizeof temp_ring[slot], "%s", tmp);
 }
 
+int sl_output_precheck(const char *path, const char *what, sl_err *e) {
+    if (!path || !path[0]) return sl_fail(e, "%s: empty output path", what);
+    size_t n = strlen(path);
+    if (path[n - 1] == '/')
+        return sl_fail(e, "%s: %s: is a directory, expected a file", what, path);
+    struct stat st;
+    if (stat(path, &st) == 0) {
+        if (S_ISDIR(st.st_mode))
+            return sl_fail(e, "%s: %s: is a directory, expected a file", what, path);
+        if (!S_ISREG(st.st_mode))
+            return sl_fail(e, "%s: %s: exists and is not a regular file", what, path);
+    }
+    char dir[4096];
+    sl_dirname(path, dir, sizeof dir);
+    if (stat(dir, &st) == 0) {
+        if (!S_ISDIR(st.st_mode))
+            return sl_fail(e, "%s: %s: %s is not a directory", what, path, dir);
+        if (access(dir, W_OK | X_OK) != 0)
+            return sl_fail(e, "%s: %s: directory %s is not writable", what, path, dir);
+        return 0;
+    }
+    char up[4096];
+    sl_dirname(dir, up, sizeof up);
+    if (stat(up, &st) != 0 || !S_ISDIR(st.st_mode))
+        return sl_fail(e, "%s: %s: directory %s does not exist (only one missing level is created)",
+                       what, path, up);
+    if (access(up, W_OK | X_OK) != 0)
+        return sl_fail(e, "%s: %s: cannot create %s: %s is not writable", what, path, dir, up);
+    return 0;
+}
+
 int sl_make_parent_dirs(const char *path, sl_err *e) {
     char dir[4096];
     sl_dirname(path, dir, sizeof dir);
@@ -279,7 +310,8 @@ void sl_progress_update(sl_progress *p, double fraction) {
     if (fraction > 1) fraction = 1;
     int width = 30, fill = (int)(fraction * width + 0.5);
     char bar[64];
-    for (int i = 0; i < width; i++) bar[i] = i < fill ? '#' : '.';
+    for (int i = 0; i < width; i++)
+        bar[i] = i < fill ? '#' : '.';
     bar[width] = 0;
     double el = t - p->start, eta = fraction > 0.01 ? el * (1 - fraction) / fraction : 0;
     fprintf(stderr, "\r%s [%s] %5.1f%% %.1fs eta %.1fs ", p->label, bar, 100 * fraction, el, eta);

@@ -54,6 +54,12 @@ void sl_atomic_abort(sl_atomic_file *af);            /* closes and removes */
 /* For writers that open files themselves (OpenEXRCore): a unique temporary name beside path. */
 void sl_temp_name(const char *path, char *tmp, size_t tmp_size);
 /* Creates the parent directories of a file path (like mkdir -p on dirname). */
+/* Checks before any work that `path` can be written as a new or replaced regular file: not
+ * empty, not a directory (nor ending in '/'), an existing target a regular file, and its directory
+ * either existing and writable or one missing level below an existing writable directory (which
+ * sl_make_parent_dirs then creates; deeper missing trees are refused: a typo should not build
+ * directories anywhere). `what` names the option or key in the message. Returns 0 or -1. */
+int sl_output_precheck(const char *path, const char *what, sl_err *e);
 int sl_make_parent_dirs(const char *path, sl_err *e);
 
 /* Path helpers. Returns the directory part of path ("." if none) into out. */

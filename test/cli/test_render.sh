@@ -156,3 +156,11 @@ if [ "$rc" -eq 2 ] && printf '%s' "$err" | grep -q -- '--exposure: expected stop
 else fail render_exposure_bad "exit $rc: $err"; fi
 sed 's/"output": {/"output": {"exposure": "bright", /' "$D/plain.json" > "$D/expob.json"
 expect_error render_exposure_key_bad "output.exposure: expected a number" "$SL" render "$D/expob.json" --device c -o "$D/e5.exr"
+
+# outputs are validated before the work: an empty path, a directory, a tree of missing
+# directories are one-line errors (exit 1) and nothing is rendered or created
+expect_error render_out_empty "--exr: empty output path" "$SL" render "$D/plain.json" --device c --exr ""
+expect_error render_out_dir "is a directory, expected a file" "$SL" render "$D/plain.json" --device c -o "$D"
+expect_error render_out_deep "does not exist (only one missing level is created)" \
+    "$SL" render "$D/plain.json" --device c -o "$D/no/such/dir/x.exr"
+if [ ! -e "$D/no" ]; then pass render_out_deep_nothing_created; else fail render_out_deep_nothing_created "created $D/no"; fi
