@@ -23,7 +23,8 @@
 #include <unistd.h>
 
 static const char *usage_text =
-    "usage: strandlight render SCENE.json [options]\n"
+    "usage: strandlight render SCENE.json|- [options]   (-: the scene on standard input, relative\n"
+    "       paths from the working directory)\n"
     "\n"
     "Renders SCENE.json (format: ../shared/spec/scene.md, README) to an OpenEXR file and a PNG\n"
     "preview (docs/frame.md). Options override the scene's settings:\n"
@@ -226,7 +227,7 @@ int cmd_render(int argc, char **argv) {
             explain = 1;
         } else if (strcmp(argv[i], "--clamp-nonfinite") == 0) {
             clamp_nonfinite = 1;
-        } else if (argv[i][0] == '-') {
+        } else if (argv[i][0] == '-' && argv[i][1] != 0) {
             return cli_usage_error("render", "unknown option %s", argv[i]);
         } else if (!scene_path) {
             scene_path = argv[i];

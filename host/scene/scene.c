@@ -367,9 +367,43 @@ done:
     return rc;
 }
 
+/* "-": the scene from standard input, named "<stdin>" in messages, relative paths from the
+ * working directory. */
+static int read_stdin(unsigned char **data, size_t *size, size_t max, sl_err *e) {
+    size_t cap = 65536, n = 0;
+    unsigned char *buf = sl_malloc(cap + 1);
+    for (;;) {
+        if (n == cap) {
+            if (cap >= max) {
+                free(buf);
+                return sl_fail(e, "<stdin>: larger than %zu bytes", max);
+            }
+            cap *= 2;
+            buf = sl_realloc(buf, cap + 1);
+        }
+        size_t got = fread(buf + n, 1, cap - n, stdin);
+        n += got;
+        if (got == 0) break;
+    }
+    if (ferror(stdin)) {
+        free(buf);
+        return sl_fail(e, "<stdin>: read error");
+    }
+    buf[n] = 0;
+    *data = buf;
+    *size = n;
+    return 0;
+}
+
 int sl_scene_load(const char *path, sl_scene *s, sl_err *e) {
     unsigned char *data;
     size_t n;
+    if (strcmp(path, "-") == 0) {
+        if (read_stdin(&data, &n, 16u << 20, e)) return -1;
+        int rc = sl_scene_parse((const char *)data, n, "<stdin>", s, e);
+        free(data);
+        return rc;
+    }
     if (sl_read_file(path, &data, &n, 16u << 20, e)) return -1;
     int rc = sl_scene_parse((const char *)data, n, path, s, e);
     free(data);
