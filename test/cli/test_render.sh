@@ -166,7 +166,8 @@ expect_error render_out_deep "does not exist (only one missing level is created)
 if [ ! -e "$D/no" ]; then pass render_out_deep_nothing_created; else fail render_out_deep_nothing_created "created $D/no"; fi
 
 # render - : the scene on standard input, relative paths from the working directory
-(cd "$D" && "$OLDPWD/$SL" render - --device c -o stdin.exr < plain.json 2>/dev/null)
+SLABS=$(cd "$(dirname "$SL")" && pwd)/$(basename "$SL")
+(cd "$D" && "$SLABS" render - --device c -o stdin.exr < plain.json 2>/dev/null)
 if [ -s "$D/stdin.exr" ]; then pass render_stdin; else fail render_stdin "no stdin.exr"; fi
 err=$(printf '{"hair": {}}' | "$SL" render - --device c -o "$D/stdin2.exr" 2>&1); rc=$?
 if [ "$rc" -eq 1 ] && printf '%s' "$err" | grep -q '^strandlight: <stdin>: hair: '; then pass render_stdin_error
