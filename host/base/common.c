@@ -33,7 +33,37 @@ void sl_warn(const char *fmt, ...) {
     va_end(ap);
 }
 
+static int g_quiet, g_status_shown;
+
+void sl_set_quiet(int quiet) {
+    g_quiet = quiet;
+}
+int sl_is_quiet(void) {
+    return g_quiet;
+}
+
+void sl_status(const char *fmt, ...) {
+    if (g_quiet || !isatty(2)) return;
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("\r", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputs("\033[K", stderr); /* erase the rest of a longer previous status */
+    fflush(stderr);
+    va_end(ap);
+    g_status_shown = 1;
+}
+
+void sl_status_clear(void) {
+    if (!g_status_shown) return;
+    fputs("\r\033[K", stderr);
+    fflush(stderr);
+    g_status_shown = 0;
+}
+
 void sl_note(const char *fmt, ...) {
+    if (g_quiet) return;
+    sl_status_clear();
     va_list ap;
     va_start(ap, fmt);
     fputs("strandlight: ", stderr);
@@ -298,7 +328,8 @@ uint64_t sl_hash64(const void *data, size_t n, uint64_t seed) {
 void sl_progress_begin(sl_progress *p, const char *label) {
     p->label = label;
     p->start = p->last = sl_now();
-    p->active = isatty(2);
+    p->active = isatty(2) && !g_quiet;
+    if (p->active) sl_status_clear();
 }
 
 void sl_progress_update(sl_progress *p, double fraction) {

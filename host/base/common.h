@@ -24,6 +24,14 @@ void sl_warn(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* Prints a one-line note to stderr ("strandlight: ..."), e.g. which device was picked. */
 void sl_note(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
+/* --quiet: notes, status lines and progress bars off (warnings and errors stay). */
+void sl_set_quiet(int quiet);
+int sl_is_quiet(void);
+/* A one-line status on a terminal ("\r... " overwritten by the next; nothing when stderr is not a
+ * terminal or quiet), e.g. the pass a long frame is in; sl_status_clear() erases it. */
+void sl_status(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+void sl_status_clear(void);
+
 /* Allocation that aborts with a message on out-of-memory (used for sizes already validated). */
 void *sl_malloc(size_t n);
 void *sl_calloc(size_t count, size_t size);

@@ -56,7 +56,7 @@ int cmd_fit(int argc, char **argv) {
     sl_envfit_settings s;
     sl_envfit_default_settings(&s);
     s.progress = 1;
-    int clamp = 0, quiet = 0, have_lobes = 0, missing = 0;
+    int clamp = 0, quiet = sl_is_quiet(), have_lobes = 0, missing = 0;
     double exposure = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];

@@ -32,11 +32,24 @@ static void usage(FILE *fp) {
             "commands:\n");
     for (size_t i = 0; i < NUM_COMMANDS; i++)
         fprintf(fp, "  %-10s %s\n", commands[i].name, commands[i].summary);
-    fprintf(fp, "\n  help COMMAND   the options of COMMAND (same as COMMAND --help)\n"
-                "  -V, --version  print the version\n");
+    fprintf(fp,
+            "\n  help COMMAND   the options of COMMAND (same as COMMAND --help)\n"
+            "  -V, --version  print the version\n"
+            "  --quiet        (any command) no notes, status lines or progress bars on stderr\n");
 }
 
 int main(int argc, char **argv) {
+    /* --quiet, for every command: no notes, status lines or progress bars on stderr (warnings
+     * and errors stay); taken out before the command parses its options. */
+    int n = 1;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--quiet") == 0)
+            sl_set_quiet(1);
+        else
+            argv[n++] = argv[i];
+    }
+    argc = n;
+    argv[argc] = NULL;
     if (argc < 2) {
         usage(stderr);
         return 2;

@@ -26,7 +26,7 @@
 void sl_render_opts_default(sl_render_opts *o) {
     memset(o, 0, sizeof *o);
     o->srbf_method = SL_RENDER_SRBF_AUTO;
-    o->segments = 0; /* the scene's quality.segments_m */
+    o->segments = 0;        /* the scene's quality.segments_m */
     o->lobe_threshold = -1; /* the scene's quality.lobe_threshold */
 }
 
@@ -312,6 +312,9 @@ static int run_passes(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
             record(r, d, SL_PASS_CACHED, 0, r->rec_why);
         } else {
             double t0 = sl_now();
+            /* which pass a long frame is in, on a terminal (passes with a bar draw their own) */
+            sl_status("frame: %s pass (%d of %d), %.1f s", d->name, i + 1, SL_PASSID_COUNT,
+                      t0 - r->frame_t0);
             if (d->run(r, in, e)) return -1;
             if (d->keyed) r->key[i] = key;
             record(r, d, r->rec_state, r->rec_state == SL_PASS_CACHED ? 0 : sl_now() - t0,
@@ -363,7 +366,9 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     sl_frame_inputs in = {s, h, lobes, cam, out};
     sl_frame_hash_inputs(&in, r->data_hash);
     r->data_hash[SL_DATA_STRAND_SIGMA] = r->strand_key;
+    r->frame_t0 = t_start;
     int rc = run_passes(r, &in, e);
+    sl_status_clear();
     if (rc == 0) r->frames_done++;
     free_work(w);
     if (rc) sl_fbuf_free(out);
