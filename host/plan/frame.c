@@ -21,6 +21,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/ioctl.h>
 #include <unistd.h>
 
 void sl_render_opts_default(sl_render_opts *o) {
@@ -186,15 +187,54 @@ static const sl_pass_desc *desc_of(const char *name) {
     return NULL;
 }
 
+/* Width to wrap explain rows at: the terminal's on a terminal, else none (a file or a pipe gets
+ * whole rows, for grep). */
+static int explain_width(FILE *f) {
+    if (!isatty(fileno(f))) return 0;
+    struct winsize ws;
+    if (ioctl(fileno(f), TIOCGWINSZ, &ws) == 0 && ws.ws_col >= 60) return ws.ws_col;
+    return 100;
+}
+
+/* text from column `col` on, wrapped at word boundaries to `width` (0: no wrapping), later lines
+ * indented to `indent`. */
+static void put_wrapped(FILE *f, const char *text, int col, int indent, int width) {
+    if (width <= 0 || col + (int)strlen(text) <= width) {
+        fputs(text, f);
+        return;
+    }
+    const char *p = text;
+    while (*p) {
+        int room = width - col;
+        if (room < 20) room = 20;
+        int n = (int)strlen(p);
+        if (n <= room) {
+            fputs(p, f);
+            break;
+        }
+        int cut = room;
+        while (cut > 0 && p[cut] != ' ') cut--;
+        if (cut == 0) cut = room; /* one long word: cut it */
+        fprintf(f, "%.*s\n%*s", cut, p, indent, "");
+        p += cut;
+        while (*p == ' ') p++;
+        col = indent;
+    }
+}
+
 void sl_renderer_explain(const sl_renderer *r, FILE *f) {
     static const char *st[] = {"run", "cached", "skipped"};
+    int width = explain_width(f);
     fprintf(f, "%-10s %-8s %9s  %s  [keyed on]\n", "pass", "state", "time", "why");
     for (int i = 0; i < r->npass; i++) {
         const sl_pass_desc *d = desc_of(r->pass[i].name);
-        char keyed[160] = "-";
+        char keyed[160] = "-", rest[800];
         if (d) sl_pass_keyed_on(d, keyed, sizeof keyed);
-        fprintf(f, "%-10s %-8s %8.3fs  %s  [%s]\n", r->pass[i].name, st[r->pass[i].state],
-                r->pass[i].seconds, r->pass[i].why, keyed);
+        fprintf(f, "%-10s %-8s %8.3fs  ", r->pass[i].name, st[r->pass[i].state],
+                r->pass[i].seconds);
+        snprintf(rest, sizeof rest, "%s  [%s]", r->pass[i].why, keyed);
+        put_wrapped(f, rest, 31, 31, width);
+        fputc('\n', f);
     }
     fprintf(f, "%-10s %-8s %8.3fs\n", "total", "", r->total_s);
 }

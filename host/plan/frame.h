@@ -87,7 +87,7 @@ enum { SL_PASS_RUN = 0, SL_PASS_CACHED = 1, SL_PASS_SKIPPED = 2 };
 typedef struct sl_pass_rec {
     char name[24];
     int state;
-    char why[200];
+    char why[600];
     double seconds;
 } sl_pass_rec;
 #define SL_FRAME_MAX_PASSES 16

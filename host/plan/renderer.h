@@ -73,7 +73,7 @@ struct sl_renderer {
     /* the frame in progress */
     sl_frame_work fw;
     int rec_state;     /* the running pass's state (run unless its run says otherwise) */
-    char rec_why[200]; /* the running pass's why (sl_frame_why) */
+    char rec_why[600]; /* the running pass's why (sl_frame_why) */
     /* last frame's plan */
     int npass;
     sl_pass_rec pass[SL_FRAME_MAX_PASSES];
