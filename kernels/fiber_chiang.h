@@ -25,7 +25,7 @@
  * at most SL_CHIANG_PANELS_MAX (docs/numerics-chiang.md has the errors that chose these). */
 #define SL_CHIANG_PANELS_MIN 8
 #define SL_CHIANG_PANEL_C 0.6f
-#define SL_CHIANG_PANELS_MAX 256
+#define SL_CHIANG_PANELS_MAX 512
 
 /* The per-query constants (they depend on theta_o only). */
 typedef struct sl_chiang_geom {
@@ -58,6 +58,20 @@ SL_INLINE float sl_chiang_logistic(const sl_chiang_geom *g, float x) {
     return e * g->inv_sz / (d * d);
 }
 
+/* Exact unpolarised Fresnel reflectance f (as sl_fresnel_exact) and its complement 1 - f
+ * without cancellation: 1 - rs^2 = 4 ci eta ct / (ci + eta ct)^2 and 1 - rp^2 = 4 eta ci ct /
+ * (eta ci + ct)^2. At grazing (theta_o within 1e-6 of a pole, cos i ~ 1e-6) f is 1 - 4e-6 and
+ * 1 - f in float would keep two digits; A_1 = (1 - f)^2 T needs all of them. */
+SL_INLINE void sl_chiang_fresnel(float eta, float cos_i, float *f, float *t) {
+    float ci = sl_minf(fabs(cos_i), 1.0f);
+    float sin2_t = (1.0f - ci * ci) / (eta * eta); /* eta > 1: never total reflection */
+    float ct = sqrt(1.0f - sin2_t);
+    float ds = ci + eta * ct, dp = eta * ci + ct;
+    float rs = (ci - eta * ct) / ds, rp = (eta * ci - ct) / dp;
+    *f = 0.5f * (rs * rs + rp * rp);
+    *t = 2.0f * eta * ci * ct * (1.0f / (ds * ds) + 1.0f / (dp * dp));
+}
+
 /* Default panel count for the width integral: ~SL_CHIANG_PANEL_C / s. */
 SL_INLINE int sl_chiang_default_panels(const sl_fiber_params *fp) {
     float n = SL_CHIANG_PANEL_C / sl_maxf(fp->logistic_s, 1e-6f);
@@ -83,12 +97,15 @@ SL_INLINE void sl_chiang_azimuthal(const sl_chiang_geom *g, float phi, int panel
             float gam = mid + (j < 4 ? -gx[j] : gx[j - 4]) * hw;
             float w = gw[j < 4 ? j : j - 4] * hw;
             float sg = sin(gam), cg = cos(gam);
-            float f = sl_fresnel_exact(g->eta, g->cos_o * cg);
+            float f, t; /* t = 1 - f */
+            sl_chiang_fresnel(g->eta, g->cos_o * cg, &f, &t);
             float sgt = sg * g->inv_etap;
             float gt = asin(sl_clamp_unit(sgt));
-            float T = exp(-g->tscale * sqrt(sl_maxf(1.0f - sgt * sgt, 0.0f)));
-            float a0 = f, a1 = (1.0f - f) * (1.0f - f) * T, a2 = a1 * T * f;
-            float den = 1.0f - T * f;
+            float x = g->tscale * sqrt(sl_maxf(1.0f - sgt * sgt, 0.0f));
+            float T = exp(-x);
+            float a0 = f, a1 = t * t * T, a2 = a1 * T * f;
+            /* 1 - T f = (1 - T) + T (1 - f): no cancellation when T and f are both near 1 */
+            float den = -expm1(-x) + T * t;
             float a3 = den > 0.0f ? a2 * T * f / den : 0.0f;
             float wc = 0.5f * w * cg; /* 1/2 of [L(+) + L(-)] and dh = cos g dg */
             /* Phi_0 = -2g, Phi_{p+1} = Phi_p + 2 gt + pi, each kept in (-pi, pi] (float phase) */
