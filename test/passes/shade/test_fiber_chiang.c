@@ -361,18 +361,25 @@ static double chiang_rand(unsigned *s) {
 
 /* Random materials over the whole parameter range (roughness and radial roughness 0.02..1, coat
  * up to 0.95, offset +-10 deg, eta 1.05..3.05, sigma_a 0..50) and random directions, a fifth of
- * them grazing, some on R's cone: the C twin within 2e-4 of the reference (measured 7.4e-5 over
- * 20000 samples, 4e-5 over these 400), no NaN/Inf. */
+ * them grazing, some on R's cone: the C twin within 2e-4 of the reference (measured 3.6e-5 over
+ * these 400; 1.6e-4 over 20000, the worst always R with coat > 0.9, a lobe of sigma ~ 0.1 deg,
+ * where a float rounding of 1e-7 rad in theta moves M by ~3e-7 / sigma), no NaN/Inf. For the
+ * measurements of docs/numerics-chiang.md, SL_CHIANG_SWEEP=N sets the sample count and
+ * SL_CHIANG_SWEEP_RR=lo,hi the radial roughness range (uniform; then only printed, not checked). */
 TEST(chiang_c_vs_reference_sweep) {
     unsigned seed = 5;
-    double worst = 0.0, lim = CGRAZE;
-    for (int i = 0; i < 400; i++) {
+    double worst = 0.0, lim = CGRAZE, rr_lo = 0.0, rr_hi = 0.0;
+    const char *env_n = getenv("SL_CHIANG_SWEEP"), *env_rr = getenv("SL_CHIANG_SWEEP_RR");
+    int n = env_n ? atoi(env_n) : 400;
+    if (env_rr && sscanf(env_rr, "%lf,%lf", &rr_lo, &rr_hi) != 2) rr_lo = rr_hi = 0.0;
+    for (int i = 0; i < n; i++) {
         sl_material m;
         sl_material_default(&m);
         m.model = SL_MODEL_CHIANG;
         sl_chiang *c = &m.chiang;
         c->roughness = 0.02 + 0.98 * pow(chiang_rand(&seed), 2);
         c->radial_roughness = 0.02 + 0.98 * pow(chiang_rand(&seed), 2);
+        if (rr_hi > 0.0) c->radial_roughness = rr_lo + (rr_hi - rr_lo) * chiang_rand(&seed);
         c->coat = chiang_rand(&seed) < 0.3 ? 0.95 * chiang_rand(&seed) : 0.0;
         c->offset = (chiang_rand(&seed) - 0.5) * 20 * CPI / 180;
         m.eta = 1.05 + 2 * chiang_rand(&seed);
@@ -396,8 +403,9 @@ TEST(chiang_c_vs_reference_sweep) {
         chiang_errors(&m, 0, x, ref, out, err);
         for (int p = 0; p < 5; p++) {
             worst = fmax(worst, err[p]);
-            CHECK_MSG(err[p] <= 2e-4, "sample %d p %d: float %.9g ref %.9g (err %.3g)", i, p,
-                      out[p], ref[p], err[p]);
+            CHECK_MSG(err[p] <= 2e-4 || rr_hi > 0.0,
+                      "sample %d p %d: float %.9g ref %.9g (err %.3g)", i, p, out[p], ref[p],
+                      err[p]);
         }
     }
     printf("  c vs reference, random sweep: worst %.2e (tolerance 2e-4)\n", worst);
