@@ -1,8 +1,8 @@
 /* fiber_c.c: the C twin's batch drivers (see fiber_c.h). Each row calls the float entry point of
  * kernels/fiber_marschner.h, kernels/fiber_deon.h, kernels/fiber_chiang.h or
- * kernels/fiber_furnace.h, exactly as the
- * OpenCL kernels in kernels/fiber.cl do. The per-row work is branchy (root solves,
- * adaptive windows), so SSE lanes across rows do not pay here: it is plain scalar float. */
+ * kernels/fiber_furnace.h, exactly as the OpenCL kernels in kernels/fiber.cl do. The per-row
+ * work is branchy (root solves, adaptive windows), so SSE lanes across rows do not pay here: it is
+ * plain scalar float. */
 #include "fiber_c.h"
 
 #include "fiber_chiang.h"
