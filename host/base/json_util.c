@@ -2,6 +2,8 @@
 #include "base/json_util.h"
 
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 void sl_json_path(const sl_json_ctx *c, const char *key, char *out, size_t n) {
@@ -70,8 +72,8 @@ int sl_json_int(const sl_json_ctx *c, const cJSON *obj, const char *key, int req
     return 0;
 }
 
-int sl_json_string(const sl_json_ctx *c, const cJSON *obj, const char *key, int required,
-                   char *out, size_t n, sl_err *e) {
+int sl_json_string(const sl_json_ctx *c, const cJSON *obj, const char *key, int required, char *out,
+                   size_t n, sl_err *e) {
     int missing;
     const cJSON *v = get(c, obj, key, required, e, &missing);
     if (missing) return required ? -1 : 0;
@@ -115,13 +117,59 @@ int sl_json_object(const sl_json_ctx *c, const cJSON *obj, const char *key, int 
     return 0;
 }
 
+static int cmp_key(const void *a, const void *b) {
+    const cJSON *x = *(const cJSON *const *)a, *y = *(const cJSON *const *)b;
+    return strcmp(x->string ? x->string : "", y->string ? y->string : "");
+}
+
+/* The first key that appears twice in one object of the tree below v, as its key path (e.g.
+ * "quality.lobes", "lobes[3].dir"), or 0 when there is none. cJSON keeps both copies and its
+ * lookups return the first while Python and JavaScript keep the last: a duplicate is an error, not
+ * a guess. Sorted per object (n log n), so a huge object costs no quadratic time. */
+static int find_duplicate(const cJSON *v, const char *path, char *out, size_t n, int depth) {
+    if (depth > 64) return 0; /* cJSON itself refuses deeper nesting */
+    size_t count = 0;
+    for (const cJSON *it = v->child; it; it = it->next)
+        count++;
+    if (cJSON_IsObject(v) && count > 1) {
+        const cJSON **keys = malloc(count * sizeof *keys);
+        if (keys) {
+            size_t i = 0;
+            for (const cJSON *it = v->child; it; it = it->next)
+                keys[i++] = it;
+            qsort(keys, count, sizeof *keys, cmp_key);
+            for (i = 1; i < count; i++)
+                if (cmp_key(&keys[i - 1], &keys[i]) == 0) {
+                    const char *k = keys[i]->string ? keys[i]->string : "";
+                    snprintf(out, n, "%s%s%s", path, path[0] ? "." : "", k);
+                    free(keys);
+                    return 1;
+                }
+            free(keys);
+        }
+    }
+    size_t idx = 0;
+    for (const cJSON *it = v->child; it; it = it->next, idx++) {
+        if (!it->child) continue;
+        char sub[512];
+        if (cJSON_IsObject(v))
+            snprintf(sub, sizeof sub, "%s%s%s", path, path[0] ? "." : "",
+                     it->string ? it->string : "");
+        else
+            snprintf(sub, sizeof sub, "%s[%zu]", path, idx);
+        if (find_duplicate(it, sub, out, n, depth + 1)) return 1;
+    }
+    return 0;
+}
+
 cJSON *sl_json_parse(const char *text, size_t len, const char *file, sl_err *e) {
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithLengthOpts(text, len, &end, 0);
     /* Text after the JSON value ("{} x") is an error too (cJSON's own check wants a NUL). */
     if (root) {
         const char *p = end;
-        while (p < text + len && (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r')) p++;
+        while (p < text + len && (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r'))
+            p++;
         if (p < text + len && *p) {
             cJSON_Delete(root);
             root = NULL;
@@ -134,6 +182,12 @@ cJSON *sl_json_parse(const char *text, size_t len, const char *file, sl_err *e) 
         for (const char *p = text; p < stop && p < text + len; p++)
             if (*p == '\n') line++;
         sl_fail(e, "%s: invalid JSON near line %d", file, line);
+        return NULL;
+    }
+    char dup[512];
+    if (find_duplicate(root, "", dup, sizeof dup, 0)) {
+        cJSON_Delete(root);
+        sl_fail(e, "%s: %s: duplicate key", file, dup);
         return NULL;
     }
     return root;

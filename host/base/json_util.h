@@ -30,7 +30,8 @@ int sl_json_vec(const sl_json_ctx *c, const cJSON *obj, const char *key, int req
 /* obj[key] must be an object when present; *child = NULL when absent. */
 int sl_json_object(const sl_json_ctx *c, const cJSON *obj, const char *key, int required,
                    const cJSON **child, sl_err *e);
-/* Parses text; a syntax error names the line: "x.json: invalid JSON near line 3". */
+/* Parses text; a syntax error names the line: "x.json: invalid JSON near line 3"; a key given twice
+ * in one object names its path: "x.json: quality.lobes: duplicate key". */
 cJSON *sl_json_parse(const char *text, size_t len, const char *file, sl_err *e);
 
 #endif

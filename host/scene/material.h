@@ -25,7 +25,7 @@ enum { SL_FRESNEL_EXACT = 0, SL_FRESNEL_SCHLICK = 1 };
 
 /* The Principled Hair (Chiang 2016, Blender/Cycles) parameters of model chiang as the user gave
  * them (numerics.md sec. 2); sl_material_from_json derives the model's quantities from them into
- * sl_material (docs/models.md): v_p = beta[p]^2, the cuticle shifts in alpha[] (d'Eon form:
+ * sl_material (docs/numerics-chiang.md): v_p = beta[p]^2, the cuticle shifts in alpha[] (d'Eon form:
  * theta_o - 2 alpha[p]), logistic_s, and sigma_a unless it was given directly. */
 typedef struct sl_chiang {
     double melanin;          /* 0..1 */
@@ -62,6 +62,9 @@ void sl_chiang_sigma_a_rgb(const sl_chiang *c, double sigma_a[3]);
 /* Recomputes the derived fields (alpha, beta, logistic_s, and sigma_a unless given) of a chiang
  * material from m->chiang: for code that builds a material without JSON (tests). */
 void sl_chiang_derive(sl_material *m);
+
+/* "marschner", "deon" or "chiang". */
+const char *sl_material_model_name(int model);
 
 /* The defaults of numerics.md section 2. */
 void sl_material_default(sl_material *m);

@@ -94,6 +94,16 @@ TEST(scene_errors_name_file_and_key) {
         {"{\"hair\":{\"procedural\":{}},\"environment\":{\"file\":\"a.hdr\"},"
          "\"material\":{\"eta\":0.9}}",
          "dir/scene.json: material.eta"},
+        /* duplicate keys: cJSON would keep the first, Python and JavaScript the last */
+        {"{\"hair\":{\"procedural\":{}},\"environment\":{\"file\":\"a.hdr\"},"
+         "\"quality\":{\"lobes\":4,\"layers\":4,\"lobes\":8}}",
+         "dir/scene.json: quality.lobes: duplicate key"},
+        {"{\"hair\":{\"procedural\":{}},\"hair\":{\"procedural\":{}},"
+         "\"environment\":{\"file\":\"a.hdr\"}}",
+         "dir/scene.json: hair: duplicate key"},
+        {"{\"hair\":{\"procedural\":{}},\"environment\":{\"file\":\"a.hdr\"},"
+         "\"x\":[1,{\"a\":1,\"a\":2}]}",
+         "dir/scene.json: x[1].a: duplicate key"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         sl_scene *s = calloc(1, sizeof *s);
