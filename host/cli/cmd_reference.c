@@ -77,7 +77,9 @@ static int run_path(const sl_scene *s, sl_path_settings *ps, const char *out, in
     sigaction(SIGINT, &sa, &old);
     ps->cancel = &interrupted;
     sl_path_result r;
-    int rc = sl_path_run(s, ps, out, force, &r, e);
+    memset(&r, 0, sizeof r);
+    /* before the render: a long render should not end in an unwritable path */
+    int rc = sl_output_precheck(out, "-o", e) ? -1 : sl_path_run(s, ps, out, force, &r, e);
     sigaction(SIGINT, &old, NULL);
     if (rc) return r.interrupted ? 130 : 1;
     char nz[64] = "n/a (fewer than 2 spp)";

@@ -140,7 +140,7 @@ int sl_path_render_prepared(const sl_scene *s, const sl_path_settings *set, sl_p
     slref_path_accum acc;
     slref_path_accum_init(&acc, p->cam.width, p->cam.height);
     int most = set->spp; /* 0 with a time budget: no sample limit */
-    progress pg = {set->progress && isatty(2), sl_now(), 0};
+    progress pg = {set->progress && isatty(2) && !sl_is_quiet(), sl_now(), 0};
     double t0 = sl_now(), c0 = cpu_now();
     int done = 0, stopped = 0;
     for (uint32_t k = 0; most == 0 || (int)k < most; k++) {
