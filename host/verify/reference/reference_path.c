@@ -58,7 +58,7 @@ int sl_path_prepare(const sl_scene *s, const sl_path_settings *set, sl_path_prep
     p->threads = set->threads > 0 ? set->threads : sl_parallel_cpus();
     if (s->material.model == SL_MODEL_MARSCHNER)
         sl_note("reference: --path with model marschner: its albedo exceeds 1 where absorption "
-                "is low (Xu 2011's form does not conserve energy: 1.06 at sigma_a 0.36, ~1.4 at "
+                "is low (Xu 2011's form does not conserve energy: 1.05 at sigma_a 0.36, ~1.4 at "
                 "0.18), so light scattered many times grows; models deon and chiang conserve it");
     return 0;
 }
