@@ -64,23 +64,16 @@ static void on_sigint(int sig) {
     interrupted = 1;
 }
 
-/* The path tracer: SIGINT sets a flag the passes check, so an interrupted render returns before
- * anything is written (outputs are written to a temporary name and renamed, after the render:
- * there is no partial EXR to leave behind). */
+/* The path tracer: SIGINT (handled from before the scene loads, see cmd_reference) sets a flag
+ * the passes check, so an interrupted render returns before anything is written (outputs are
+ * written to a temporary name and renamed, after the render: there is no partial EXR). */
 static int run_path(const sl_scene *s, sl_path_settings *ps, const char *out, int force,
                     sl_err *e) {
-    struct sigaction sa, old;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_sigint;
-    sigemptyset(&sa.sa_mask);
-    interrupted = 0;
-    sigaction(SIGINT, &sa, &old);
     ps->cancel = &interrupted;
     sl_path_result r;
     memset(&r, 0, sizeof r);
     /* before the render: a long render should not end in an unwritable path */
     int rc = sl_output_precheck(out, "-o", e) ? -1 : sl_path_run(s, ps, out, force, &r, e);
-    sigaction(SIGINT, &old, NULL);
     if (rc) return r.interrupted ? 130 : 1;
     char nz[64] = "n/a (fewer than 2 spp)";
     if (isfinite(r.noise))
@@ -183,6 +176,14 @@ int cmd_reference(int argc, char **argv) {
     if (path && ps.time_s > 0 && !spp_given) ps.spp = 0; /* no sample limit */
 
     sl_err e = {{0}};
+    struct sigaction sa, old;
+    if (path) { /* from here on, so that a SIGINT while loading also ends with nothing written */
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = on_sigint;
+        sigemptyset(&sa.sa_mask);
+        interrupted = 0;
+        sigaction(SIGINT, &sa, &old);
+    }
     sl_scene *s = sl_malloc(sizeof *s);
     int rc = 1;
     if (sl_scene_load(scene_path, s, &e)) goto done;
@@ -215,6 +216,7 @@ int cmd_reference(int argc, char **argv) {
                 set.fragments ? " of the same fragments" : " with seed + 1", r.time_2n_s);
     rc = 0;
 done:
+    if (path) sigaction(SIGINT, &old, NULL);
     if (rc) fprintf(stderr, "strandlight: %s\n", e.msg);
     (void)conv;
     free(s);
