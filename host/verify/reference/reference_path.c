@@ -167,6 +167,7 @@ int sl_path_render_prepared(const sl_scene *s, const sl_path_settings *set, sl_p
     r->cpu_s = cpu_now() - c0;
     r->spp = done;
     r->spp_asked = set->spp;
+    r->threads = p->threads;
     long long ev;
     slref_path_stats(&acc, &r->paths, &ev, &r->capped);
     r->paths_per_s = r->wall_s > 0 ? (double)r->paths / r->wall_s : 0;

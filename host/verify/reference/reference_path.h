@@ -52,6 +52,7 @@ typedef struct sl_path_result {
     double cpu_s;       /* process CPU time of the render */
     double paths_per_s; /* camera paths (pixel samples) per wall second */
     double events_per_path;
+    int threads;                        /* worker threads used */
     long long paths, capped;            /* paths traced; cut at the depth cap */
     double noise, noise_4x4, noise_8x8; /* path_noise.h (NaN below 2 spp) */
     double mean_rgb[3], coverage;

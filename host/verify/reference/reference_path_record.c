@@ -81,7 +81,7 @@ static int write_json(const char *path, const sl_scene *s, const sl_path_setting
     cJSON_AddBoolToObject(ref, "fragments", 0);
     cJSON_AddNumberToObject(ref, "time_s", r->wall_s);
     cJSON_AddNumberToObject(ref, "cpu_s", r->cpu_s);
-    cJSON_AddNumberToObject(ref, "threads", set->threads);
+    cJSON_AddNumberToObject(ref, "threads", r->threads);
     cJSON_AddNumberToObject(ref, "paths", (double)r->paths);
     cJSON_AddNumberToObject(ref, "paths_per_s", r->paths_per_s);
     cJSON_AddNumberToObject(ref, "events_per_path", r->events_per_path);
@@ -101,9 +101,12 @@ static int write_json(const char *path, const sl_scene *s, const sl_path_setting
     return sl_ref_json_write(path, root, e);
 }
 
-static double num_of(const cJSON *o, const char *k) {
-    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, k);
+static double num_of_item(const cJSON *v) {
     return cJSON_IsNumber(v) ? v->valuedouble : NAN;
+}
+
+static double num_of(const cJSON *o, const char *k) {
+    return num_of_item(cJSON_GetObjectItemCaseSensitive(o, k));
 }
 
 /* 1 when json_path is a path record of this key whose EXR matches its digest; fills r. */
@@ -131,6 +134,9 @@ static int read_cached(const char *json_path, const char *exr_path, uint64_t key
         r->wall_s = num_of(ref, "time_s"), r->cpu_s = num_of(ref, "cpu_s");
         r->paths_per_s = num_of(ref, "paths_per_s");
         r->coverage = num_of(ref, "coverage");
+        const cJSON *mv = cJSON_GetObjectItemCaseSensitive(ref, "mean_rgb");
+        for (int c = 0; c < 3 && cJSON_GetArraySize(mv) == 3; c++)
+            r->mean_rgb[c] = num_of_item(cJSON_GetArrayItem(mv, c));
         const cJSON *nz = cJSON_GetObjectItemCaseSensitive(ref, "noise");
         r->noise = num_of(nz, "rel_rmse");
         r->noise_4x4 = num_of(nz, "rel_rmse_4x4");
