@@ -113,7 +113,7 @@ int sl_compare(const sl_compare_in *in, sl_compare_result *r, sl_err *e) {
     r->blocks = (long)((w + in->block - 1) / in->block) * ((h + in->block - 1) / in->block);
 
     /* means over hair pixels */
-    double sum[IM_N][3] = {{0}};
+    double sum[IM_N][4] = {{0}};
     long nh = 0;
     for (size_t p = 0; p < (size_t)w * h; p++) {
         int hair = 0;
@@ -122,7 +122,7 @@ int sl_compare(const sl_compare_in *in, sl_compare_result *r, sl_err *e) {
         if (!hair) continue;
         nh++;
         for (int i = 0; i < IM_N; i++)
-            for (int c = 0; im[i] && c < 3; c++)
+            for (int c = 0; im[i] && c < 4; c++)
                 sum[i][c] += im[i]->rgba[4 * p + c];
     }
     if (nh == 0)
@@ -138,6 +138,10 @@ int sl_compare(const sl_compare_in *in, sl_compare_result *r, sl_err *e) {
         r->mean_ref[c] = im[IM_B] ? 0.5 * (r->mean_a[c] + r->mean_b[c]) : r->mean_a[c];
         r->ratio[c] = r->mean_ref[c] != 0 ? r->mean_x[c] / r->mean_ref[c] : NAN;
     }
+
+    int x_avg = im[IM_X2] && in->ours2_mode == SL_OURS_INDEPENDENT;
+    r->alpha_x = (x_avg ? 0.5 * (sum[IM_X][3] + sum[IM_X2][3]) : sum[IM_X][3]) / nh;
+    r->alpha_ref = (im[IM_B] ? 0.5 * (sum[IM_A][3] + sum[IM_B][3]) : sum[IM_A][3]) / nh;
 
     sums s;
     accumulate(im, in->ours2_mode, 1, &s);
@@ -195,9 +199,11 @@ void sl_compare_print(FILE *f, const sl_compare_in *in, const sl_compare_result 
                 in->ours2_mode == SL_OURS_HALF ? "its first half" : "independent");
     fprintf(f, "\nreference  %s", in->names[2]);
     if (in->ref_b) fprintf(f, "  + %s (another seed)", in->names[3]);
-    fprintf(f, "\n%d x %d: %ld hair pixels of %ld; %d x %d blocks: %ld with hair of %ld\n\n",
+    fprintf(f, "\n%d x %d: %ld hair pixels of %ld; %d x %d blocks: %ld with hair of %ld\n",
             r->width, r->height, r->px.count, r->pixels, r->block, r->block, r->blk.count,
             r->blocks);
+    fprintf(f, "mean alpha over hair pixels (coverage): ours %.6g, reference %.6g\n\n", r->alpha_x,
+            r->alpha_ref);
     row rw[24];
     int n = rows(in, r, rw);
     fprintf(f, "%-28s %12s %12s %12s %12s\n", "", "R", "G", "B", "avg");
@@ -216,6 +222,7 @@ void sl_compare_csv(FILE *f, const sl_compare_in *in, const sl_compare_result *r
     fprintf(f, "hair_pixels,%ld,%ld,%ld,%ld\n", r->px.count, r->px.count, r->px.count, r->px.count);
     fprintf(f, "hair_blocks,%ld,%ld,%ld,%ld\n", r->blk.count, r->blk.count, r->blk.count,
             r->blk.count);
+    fprintf(f, "mean_alpha_ours,,,,%.9g\nmean_alpha_ref,,,,%.9g\n", r->alpha_x, r->alpha_ref);
     for (int i = 0; i < n; i++) {
         fprintf(f, "%s", rw[i].key);
         for (int c = 0; c < 4; c++) {

@@ -49,6 +49,9 @@ typedef struct sl_compare_result {
     /* mean premultiplied rgb over hair pixels: X, X2, A, B, and x and r as compared */
     double mean_ours[3], mean_ours2[3], mean_a[3], mean_b[3], mean_x[3], mean_ref[3];
     double ratio[3]; /* mean_x / mean_ref (NAN where mean_ref is 0) */
+    /* mean alpha over hair pixels of x and r: coverage, which tells geometry or camera
+     * differences from shading ones */
+    double alpha_x, alpha_ref;
     sl_compare_err px, blk;
     double ab_blocks[4]; /* raw rel. RMSE of A against B on blocks (NAN without B) */
 } sl_compare_result;
@@ -57,7 +60,8 @@ typedef struct sl_compare_result {
 int sl_compare(const sl_compare_in *in, sl_compare_result *r, sl_err *e);
 
 /* The human-readable table, and the machine form: a header `quantity,r,g,b,avg` and one row per
- * figure (names as in the table, snake_case). */
+ * figure (names as in the table, snake_case); the counts hair_pixels / hair_blocks repeat in
+ * every column, the coverage rows mean_alpha_ours / mean_alpha_ref fill only avg. */
 void sl_compare_print(FILE *f, const sl_compare_in *in, const sl_compare_result *r);
 void sl_compare_csv(FILE *f, const sl_compare_in *in, const sl_compare_result *r);
 
