@@ -78,10 +78,53 @@ EOF
 then pass export_up_and_radius; else fail export_up_and_radius "points or thickness differ"; fi
 if grep -q '"framed":[[:space:]]*false' "$D/out/z.hair.camera.json"; then pass export_given_eye; else fail export_given_eye "framed flag"; fi
 
+# --- scripts/cycles (Blender's side) without Blender: its .hair reader and its frame -------------
+# (numpy is what Blender's Python brings; without it these two checks SKIP)
+if $PY -c "import numpy" 2>/dev/null; then
+    if $PY - "$D/out/z.hair" "$D/out/proc.hair" <<'EOF'
+import sys
+sys.path.insert(0, "scripts/cycles")
+import hairfile
+h = hairfile.read(sys.argv[1])
+assert h.num_strands == 2 and list(h.strand_first) == [0, 3, 5], h.strand_first
+assert abs(h.points[1] - [1, 3, -2]).max() < 1e-6 and abs(h.radius - 0.07).max() < 1e-7
+p = hairfile.read(sys.argv[2])
+assert p.num_strands == 30 and len(p.points) == 240 and abs(p.radius - 0.05).max() < 1e-7
+EOF
+    then pass cycles_hairfile_reads_export; else fail cycles_hairfile_reads_export "hairfile.py disagrees"; fi
+    # frames.map_dir against the C code: the brightest pixel's direction `strandlight info` prints
+    $PY - "$D/map.hdr" <<'EOF'
+import sys
+w, h = 32, 16
+with open(sys.argv[1], "wb") as f:
+    f.write(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" % (h, w))
+    for y in range(h):
+        for x in range(w):
+            f.write(b"\x80\x80\x80\x8d" if (x, y) == (27, 4) else b"\x80\x80\x80\x81")
+EOF
+    dir=$("$SL" info "$D/map.hdr" 2>/dev/null | sed -n 's/^luminance max: .*dir (\(.*\))$/\1/p')
+    if $PY - "$dir" <<'EOF'
+import sys
+sys.path.insert(0, "scripts/cycles")
+import numpy as np, frames
+want = np.array([float(t) for t in sys.argv[1].split(",")])
+got = frames.map_dir(32, 16, 27, 4)
+assert np.abs(got - want).max() < 1e-3, (got, want)
+assert frames.dir_to_pixel(32, 16, got) == (27, 4)
+b = frames.to_blender(got)  # Blender's equirectangular u of that direction: our pixel column
+u = -np.arctan2(b[1], b[0]) / (2 * np.pi) + 0.5
+assert int(u * 32) == 27 and abs(np.linalg.det(frames.OURS_TO_BLENDER) - 1) < 1e-12, u
+EOF
+    then pass cycles_frames_match_c; else fail cycles_frames_match_c "frames.py vs strandlight info: '$dir'"; fi
+else
+    skip cycles_hairfile_reads_export "no numpy for $PY"
+    skip cycles_frames_match_c "no numpy for $PY"
+fi
+
 # --- bad outputs and inputs: one line, exit 1, nothing written ---------------------------------
 printf 'x' > "$D/afile"
 expect_error export_bad_output_path "afile" "$SL" export "$D/proc.json" -o "$D/afile/x.hair"
-if [ ! -e "$D/afile/x.hair" ] && [ -z "$(ls "$D" | grep -v -e '^out$' -e '\.json$' -e '\.hair$' -e '^afile$')" ]; then
+if [ "$(cat "$D/afile")" = x ] && ! ls -a "$D" | grep -q -e tmp -e 'x\.hair'; then
     pass export_bad_output_writes_nothing
 else fail export_bad_output_writes_nothing "$(ls "$D")"; fi
 mkdir -p "$D/adir"
