@@ -151,6 +151,15 @@ if "$SL" render "$D/tiny.json" --device c --exr "$D/a.exr" >/dev/null 2>&1 &&
        && printf '%s\n' "$csv" | head -1 | grep -q '^quantity,r,g,b,avg$'; then
         pass compare_identical_csv
     else fail compare_identical_csv "$csv"; fi
+    # the same scene under 1.1 x the light: every pixel 1.1 x (the renderer is linear in it;
+    # half-float EXRs round to 5e-4): ratio 1.1, rel. RMSE 0.1 per pixel and per block
+    sed 's/"lobes": "lobes.json"}/"lobes": "lobes.json", "intensity": 1.1}/' "$D/tiny.json" > "$D/tiny11.json"
+    "$SL" render "$D/tiny11.json" --device c --exr "$D/a11.exr" >/dev/null 2>&1
+    csv=$("$SL" compare "$D/a11.exr" "$D/a.exr" --csv 2>&1)
+    if printf '%s\n' "$csv" | awk -F, '$1 == "ratio" { for (i = 2; i <= 4; i++) if ($i < 1.098 || $i > 1.102) bad = 1; n++ }
+        $1 ~ /^rel_rmse_(px|blocks)_raw$/ { if ($5 < 0.098 || $5 > 0.102) bad = 1; n++ }
+        END { exit bad || n != 3 }'; then pass compare_known_ratio
+    else fail compare_known_ratio "$csv"; fi
     expect_output compare_table "rel RMSE blocks, corrected" "$SL" compare "$D/a.exr" "$D/a.exr" "$D/a.exr" --ours-noise "$D/a.exr"
     expect_error compare_size_mismatch "small.exr is 24 x 16" "$SL" compare "$D/a.exr" "$D/small.exr"
     expect_error compare_missing_file "none.exr" "$SL" compare "$D/a.exr" "$D/none.exr"
