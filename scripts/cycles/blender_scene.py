@@ -3,8 +3,8 @@
 Used by render_cycles.py (hair renders) and check_envmap.py (the frame check of
 docs/validation.md). Every setting that could bias Cycles against a plain path tracer is set
 explicitly (settings()): no clamping, no Filter Glossy, no light threshold, no adaptive sampling,
-no denoising, no path guiding, 32 bounces of every kind, box pixel filter of one pixel, fixed
-seed and sample count, CPU.
+no denoising, no path guiding, 32 bounces of every kind (or `bounces`), box pixel filter of one
+pixel, fixed seed and sample count, CPU.
 """
 import math
 
@@ -24,7 +24,7 @@ def reset():
     return bpy.context.scene
 
 
-def settings(sc, width, height, spp, seed, threads, transparent):
+def settings(sc, width, height, spp, seed, threads, transparent, bounces=32):
     sc.render.engine = "CYCLES"
     cy = sc.cycles
     cy.device = "CPU"
@@ -44,10 +44,10 @@ def settings(sc, width, height, spp, seed, threads, transparent):
     cy.use_guiding = False
     cy.auto_scrambling_distance = False
     cy.scrambling_distance = 1.0
-    cy.max_bounces = 32
+    cy.max_bounces = bounces
     for k in ("diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces",
               "transparent_max_bounces"):
-        setattr(cy, k, 32)
+        setattr(cy, k, bounces)
     cy.min_light_bounces = 0
     cy.min_transparent_bounces = 0
     cy.pixel_filter_type = "BOX"  # our pixels are box-filtered (K x K jittered rays)

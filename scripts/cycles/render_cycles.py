@@ -3,7 +3,7 @@ docs/validation.md ("Against Blender Cycles"). Blender is never a build or test 
 
   blender -b --factory-startup --python-exit-code 1 -P scripts/cycles/render_cycles.py -- \\
       SCENE.json OUT.exr --spp N --seed S [--hair FILE.hair] [--width W --height H] \\
-      [--threads T] [--offset-sign flip|same] [--env-interp closest|linear] [--half]
+      [--threads T] [--bounces B] [--offset-sign flip|same] [--env-interp closest|linear] [--half]
 
 Inputs: SCENE.json itself (read here with the json module: material, environment) and what
 `strandlight export SCENE.json -o FILE.hair` wrote: the strands as the renderer sees them
@@ -14,7 +14,8 @@ environment as strandlight parsed them, which must agree with this script's read
 Cycles: Principled Hair BSDF (model chiang required; Melanin parametrisation, or Absorption
 Coefficient when the scene gives sigma_a), random_* 0; world = the map as our loader decodes it
 (blender_scene.env_image), strength = intensity, rotation_deg applied; film transparent, no
-clamping, 32 bounces of every kind, box filter, no denoising (blender_scene.settings).
+clamping, 32 bounces of every kind (--bounces B: B of every kind), box filter, no denoising
+(blender_scene.settings).
 --offset-sign flip (default) gives Cycles the negated offset so that its lobes shift the way ours
 do (Cycles 3.4 tilts theta_i, docs/validation.md); same passes it unchanged.
 --env-interp closest (default): each map pixel is constant radiance, as our loader's lookups.
@@ -49,11 +50,12 @@ def fail(msg):
 def parse_args(argv):
     args = argv[argv.index("--") + 1:] if "--" in argv else []
     o = {"spp": None, "seed": None, "hair": None, "width": None, "height": None, "threads": 0,
+         "bounces": 32,
          "offset_sign": "flip", "env_interp": "closest", "half": False}
     pos = []
     i = 0
     ints = {"--spp": "spp", "--seed": "seed", "--width": "width", "--height": "height",
-            "--threads": "threads"}
+            "--threads": "threads", "--bounces": "bounces"}
     while i < len(args):
         a = args[i]
         if a in ints or a in ("--hair", "--offset-sign", "--env-interp"):
@@ -167,7 +169,8 @@ def main():
 
     try:
         sc = bs.reset()
-        bs.settings(sc, W, H, o["spp"], o["seed"], o["threads"], transparent=True)
+        bs.settings(sc, W, H, o["spp"], o["seed"], o["threads"], transparent=True,
+                    bounces=o["bounces"])
         bs.output_exr(sc, o["half"])
         bs.world(sc, bs.env_image(env["file"]), env["rotation_deg"], env["intensity"],
                  "Closest" if o["env_interp"] == "closest" else "Linear")
@@ -198,7 +201,7 @@ def main():
               "threads": sc.render.threads, "render_seconds": round(seconds, 2),
               "offset_sign": o["offset_sign"], "env_interp": o["env_interp"],
               "half": o["half"], "material": m, "environment": env,
-              "settings": {"max_bounces": 32, "clamp": 0, "filter": "box 1 px",
+              "settings": {"max_bounces": o["bounces"], "clamp": 0, "filter": "box 1 px",
                            "film_transparent": True, "denoising": False,
                            "adaptive_sampling": False, "curve_shape": "THICK"}}
     with open(out + ".json.tmp", "w") as f:
