@@ -22,6 +22,8 @@ static const command commands[] = {
     {"reference", cmd_reference, "brute-force reference render (ray-traced fibers)"},
     {"view", cmd_view, "interactive viewer: live editing and painting (GLFW + OpenGL)"},
     {"report", cmd_report, "error against run time (kernels, scenes)"},
+    {"export", cmd_export, "the scene's strands as a .hair file + its camera (for Cycles)"},
+    {"compare", cmd_compare, "an image against one or two references (mean colour, rel. RMSE)"},
 };
 #define NUM_COMMANDS (sizeof commands / sizeof commands[0])
 
