@@ -22,7 +22,8 @@ static void help(void) {
         "\n"
         "--kernel srbf: the SRBF closed forms (--method xu with m = 1..8, --method fast) on the\n"
         "C path and on OpenCL against the exact reference, over the fixed seeded stiff sample\n"
-        "of host/verify/report/srbf_sample.c (docs/srbf.md): median, 95th percentile and maximum of the\n"
+        "of host/verify/report/srbf_sample.c (docs/srbf.md): median, 95th percentile and maximum "
+        "of the\n"
         "error of numerics.md sec. 5 and lobe evaluations per second, as a Markdown table on\n"
         "stdout, a CSV and an SVG plot of error against time.\n"
         "  --n N              sample size (default 150; any prefix of the sequence)\n"
@@ -57,7 +58,11 @@ static void help(void) {
         "  --frag-lights N    fragment reference lights (default by mode)\n"
         "  --width W          image width (height keeps the scene's aspect)\n"
         "  --device SPEC      OpenCL device for the opencl rows (default: opencl); none: C only\n"
-        "  --threads T        threads (default: every CPU)\n");
+        "  --threads T        threads (default: every CPU)\n"
+        "  --reference R      pixel reference: auto (default: the path tracer for deon and\n"
+        "                     chiang, the direct-light reference for marschner), path, direct\n"
+        "  --spp N            path-traced reference samples per pixel (default 256; quick 64;\n"
+        "                     tiny 8)\n");
 }
 
 static int report_srbf_args(int argc, char **argv) {
@@ -131,6 +136,20 @@ static int report_scene_args(int argc, char **argv, const char *scene) {
         } else if (cli_opt(argc, argv, &i, "--threads", &v, &missing)) {
             if (cli_int("report", "--threads", v, 1, 256, &n)) return 2;
             o.threads = (int)n;
+        } else if (cli_opt(argc, argv, &i, "--reference", &v, &missing)) {
+            if (missing) return 2;
+            if (strcmp(v, "auto") == 0)
+                o.reference = 0;
+            else if (strcmp(v, "path") == 0)
+                o.reference = 1;
+            else if (strcmp(v, "direct") == 0)
+                o.reference = 2;
+            else
+                return cli_usage_error("report",
+                                       "--reference: expected auto, path or direct, got \"%s\"", v);
+        } else if (cli_opt(argc, argv, &i, "--spp", &v, &missing)) {
+            if (cli_int("report", "--spp", v, 1, 1000000, &n)) return 2;
+            o.spp = (int)n;
         } else
             return cli_usage_error("report", "SCENE.json: unexpected argument '%s'", argv[i]);
         if (missing) return 2;

@@ -11,6 +11,7 @@
 #include "io/hair/hair.h"
 #include "io/image/image_write.h"
 #include "verify/reference/reference.h"
+#include "verify/reference/reference_path.h"
 #include "scene/scene.h"
 #include "scene/scene_inputs.h"
 #include "srbf_c.h"
@@ -30,6 +31,10 @@
 #define SL_REPORT_FULL_WIDTH 128
 #define SL_REPORT_FULL_LIGHTS 512
 #define SL_REPORT_FULL_AA 12
+/* path-traced pixel reference: samples per pixel by mode (full, quick, tiny) */
+#define SL_REPORT_FULL_SPP 256
+#define SL_REPORT_QUICK_SPP 64
+#define SL_REPORT_TINY_SPP 8
 #define SL_REPORT_FULL_FRAG_LIGHTS 96
 #define SL_REPORT_QUICK_FRAG_LIGHTS 32
 #define MAX_LOBESETS 8
@@ -85,8 +90,8 @@ static int add_cfg(run_cfg *list, int n, run_cfg c) {
  * an expensive corner, on the C path; base and the cheap corner again on OpenCL. */
 static int make_sweep(const sl_scene *s, int quick, int tiny, int have_cl, int lobes_fixed,
                       run_cfg *list) {
-    run_cfg base = {0,        SL_SRBF_METHOD_FAST,   s->lobes, s->layers, s->segments_m, s->voxels,
-                    s->kappa, s->multiple_scattering, 0, 0};
+    run_cfg base = {0,        SL_SRBF_METHOD_FAST,    s->lobes, s->layers, s->segments_m, s->voxels,
+                    s->kappa, s->multiple_scattering, 0,        0};
     int n = 0;
     run_cfg c;
     n = add_cfg(list, n, base);
@@ -113,7 +118,9 @@ static int make_sweep(const sl_scene *s, int quick, int tiny, int have_cl, int l
         c = base, c.layers = lay[i];
         n = add_cfg(list, n, c);
     }
-    for (int i = 0; i < nm; i++) {
+    /* Xu's form exists for the Marschner model only (deon and chiang shade with the fast path) */
+    int xu_ok = s->material.model == SL_MODEL_MARSCHNER;
+    for (int i = 0; i < nm && xu_ok; i++) {
         c = base, c.method = SL_SRBF_METHOD_XU, c.m = mm[i];
         n = add_cfg(list, n, c);
     }
@@ -137,7 +144,8 @@ static int make_sweep(const sl_scene *s, int quick, int tiny, int have_cl, int l
     if (!tiny) {
         run_cfg rich = base;
         if (!lobes_fixed) rich.lobes = lob[nlob - 1];
-        rich.layers = 8, rich.method = SL_SRBF_METHOD_XU, rich.m = 8, rich.ms = SL_MS_ON;
+        rich.layers = 8, rich.ms = SL_MS_ON;
+        if (xu_ok) rich.method = SL_SRBF_METHOD_XU, rich.m = 8;
         n = add_cfg(list, n, rich);
     }
     if (!tiny && !quick) {
@@ -296,7 +304,8 @@ static void fmt_num(char *b, size_t n, double v) {
 
 /* rr: the pixel reference, rf: the fragment reference (NULL when not rendered). */
 static int write_csv(const char *path, const run_res *r, int n, const sl_reference_result *rr,
-                     const sl_reference_result *rf, int w, int h, int aa, sl_err *e) {
+                     const sl_reference_result *rf, const sl_path_result *pr, int w, int h, int aa,
+                     sl_err *e) {
     sl_atomic_file af;
     if (sl_atomic_open(&af, path, e)) return -1;
     FILE *f = af.fp;
@@ -305,10 +314,15 @@ static int write_csv(const char *path, const run_res *r, int n, const sl_referen
                "height,pareto,rel_rmse_frag,p99_frag,rel_rmse_frag_R,rel_rmse_frag_TT,"
                "rel_rmse_frag_TRT,rel_rmse_frag_MS,pareto_frag,rel_rmse_frag_4x4,shading_rate,"
                "broad_lobes\n");
-    fprintf(f, "reference,exact,,,,,,%s,%.6g,%.6g,%.6g,%.6g,,,,,%d,%d,%d,%d,0,,,,,,,0,,,\n",
-            rr->ms ? "on" : "off", rr->time_s, rr->has_convergence ? rr->conv_rel_rmse : NAN,
-            rr->has_convergence ? rr->conv_p99 : NAN,
-            rr->has_convergence ? rr->conv_rel_rmse_4x4 : NAN, rr->lights, aa, w, h);
+    if (pr) /* the path tracer: its own noise (even vs odd samples) in the error columns, spp as aa
+             */
+        fprintf(f, "reference_path,path,,,,,,on,%.6g,%.6g,,%.6g,,,,,,%d,%d,%d,0,,,,,,,0,,,\n",
+                pr->wall_s, pr->noise, pr->noise_4x4, pr->spp, w, h);
+    else
+        fprintf(f, "reference,exact,,,,,,%s,%.6g,%.6g,%.6g,%.6g,,,,,%d,%d,%d,%d,0,,,,,,,0,,,\n",
+                rr->ms ? "on" : "off", rr->time_s, rr->has_convergence ? rr->conv_rel_rmse : NAN,
+                rr->has_convergence ? rr->conv_p99 : NAN,
+                rr->has_convergence ? rr->conv_rel_rmse_4x4 : NAN, rr->lights, aa, w, h);
     if (rf) /* its own convergence (N vs 2N lights, same fragments) in both error columns */
         fprintf(
             f,
@@ -390,8 +404,9 @@ static void target_sentence(FILE *f, const char *what, const run_res *s, int n, 
 }
 
 static int write_md(const char *path, const char *scene, const run_res *r, int n,
-                    const sl_reference_result *rr, const sl_reference_result *rf, int w, int h,
-                    int aa, const char *mode, const char *cl_name, sl_err *e) {
+                    const sl_reference_result *rr, const sl_reference_result *rf,
+                    const sl_path_result *pr, int w, int h, int aa, const char *mode,
+                    const char *cl_name, sl_err *e) {
     sl_atomic_file af;
     if (sl_atomic_open(&af, path, e)) return -1;
     FILE *f = af.fp;
@@ -406,13 +421,25 @@ static int write_md(const char *path, const char *scene, const run_res *r, int n
             "seconds of one frame with a fresh renderer (every pass run, SRBF tables and fitted "
             "lobes from the disk cache).\n\n",
             mode, w, h);
-    fprintf(f,
-            "## Reference\n\nPixel reference: %d directional lights (median cut), %d x %d rays "
-            "per pixel sharing the lights (light split), multiple scattering %s, render time "
-            "%.2f s%s.\n",
-            rr->lights, aa, aa, rr->ms ? "on" : "off", rr->time_s,
-            rr->cached ? " (from the cache: time of the run that rendered it)" : "");
-    if (rr->has_convergence)
+    if (pr)
+        fprintf(f,
+                "## Reference\n\nPixel reference: the path tracer (`strandlight reference "
+                "--path`: every bounce through the real fibers, the map sampled by importance, "
+                "docs/reference.md \"Path tracer\"), %d samples per pixel, %.1f events per path, "
+                "render time %.2f s wall, %.2f s CPU%s.\nIts own noise (even vs odd samples, the "
+                "rel. RMSE of the full image's estimate): per pixel %.4g, 4x4 blocks %.4g, 8x8 "
+                "blocks %.4g. Errors below these are not resolved by the reference.\n\n",
+                pr->spp, pr->events_per_path, pr->wall_s, pr->cpu_s,
+                pr->cached ? " (from the cache: the run that rendered it)" : "", pr->noise,
+                pr->noise_4x4, pr->noise_8x8);
+    else
+        fprintf(f,
+                "## Reference\n\nPixel reference: %d directional lights (median cut), %d x %d "
+                "rays per pixel sharing the lights (light split), multiple scattering %s, render "
+                "time %.2f s%s.\n",
+                rr->lights, aa, aa, rr->ms ? "on" : "off", rr->time_s,
+                rr->cached ? " (from the cache: time of the run that rendered it)" : "");
+    if (!pr && rr->has_convergence)
         fprintf(f,
                 "Own convergence (image at %d lights vs %d lights with another jitter seed: "
                 "light cut and camera-ray sampling): rel. RMSE %.4g, p99 %.4g, 4x4 %.4g "
@@ -805,14 +832,44 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
     sl_dirname(out_dir, parent, sizeof parent);
     snprintf(ref_path, sizeof ref_path, "%s/.reference/%s_%dx%d_n%d_aa%d.exr", parent, name, w, hgt,
              lights, aa);
+    /* The pixel reference is the path tracer (the ground truth) for the energy-conserving
+     * models; the direct-light reference stays the fast one, and the only one for marschner,
+     * whose albedo above 1 makes multiply scattered light grow with every bounce. */
+    int use_path =
+        o->reference == 1 || (o->reference == 0 && s->material.model != SL_MODEL_MARSCHNER);
+    if (o->reference == 0 && !use_path)
+        sl_note("report: model marschner: the direct-light pixel reference (its single scattering "
+                "carries ~2x the energy, so the path tracer is no ground truth for it: "
+                "docs/models.md)");
+    int spp = o->spp     ? o->spp
+              : o->tiny  ? SL_REPORT_TINY_SPP
+              : o->quick ? SL_REPORT_QUICK_SPP
+                         : SL_REPORT_FULL_SPP;
+    if (use_path)
+        snprintf(ref_path, sizeof ref_path, "%s/.reference/%s_%dx%d_path_spp%d.exr", parent, name,
+                 w, hgt, spp);
     if (sl_make_parent_dirs(ref_path, e)) goto done;
     sl_reference_settings set;
     sl_reference_settings_default(&set);
     set.lights = lights, set.aa = aa, set.width = w, set.height = hgt;
     set.threads = o->threads, set.progress = 1;
     sl_reference_result rr;
-    sl_note("report: reference %dx%d, %d lights, aa %d -> %s", w, hgt, lights, aa, ref_path);
-    if (sl_reference_run(s, &set, ref_path, 1, &rr, e)) goto done;
+    memset(&rr, 0, sizeof rr);
+    sl_path_result pr;
+    memset(&pr, 0, sizeof pr);
+    if (use_path) {
+        sl_path_settings ps;
+        sl_path_settings_default(&ps);
+        ps.spp = spp, ps.width = w, ps.height = hgt, ps.threads = o->threads;
+        sl_note("report: path-traced reference %dx%d, %d spp -> %s", w, hgt, spp, ref_path);
+        if (sl_path_run(s, &ps, ref_path, 0, &pr, e)) goto done;
+        rr.cached = pr.cached, rr.key = pr.key, rr.ms = 1, rr.time_s = pr.wall_s;
+        rr.has_convergence = isfinite(pr.noise);
+        rr.conv_rel_rmse = pr.noise, rr.conv_rel_rmse_4x4 = pr.noise_4x4, rr.conv_p99 = NAN;
+    } else {
+        sl_note("report: reference %dx%d, %d lights, aa %d -> %s", w, hgt, lights, aa, ref_path);
+        if (sl_reference_run(s, &set, ref_path, 1, &rr, e)) goto done;
+    }
     if (sl_reference_load(ref_path, &ref, e)) goto done;
     if (ref.width != w || ref.height != hgt) {
         sl_fail(e, "%s: %dx%d, expected %dx%d", ref_path, ref.width, ref.height, w, hgt);
@@ -918,9 +975,11 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
             if (sl_png_write(p, w, hgt, res[i].heat, 0.0f, e)) goto done;
         }
     snprintf(p, sizeof p, "%s/results.csv", tmpdir);
-    if (write_csv(p, res, nruns, &rr, &rf, w, hgt, aa, e)) goto done;
+    if (write_csv(p, res, nruns, &rr, &rf, use_path ? &pr : NULL, w, hgt, aa, e)) goto done;
     snprintf(p, sizeof p, "%s/report.md", tmpdir);
-    if (write_md(p, o->scene, res, nruns, &rr, &rf, w, hgt, aa, mode, cl_name, e)) goto done;
+    if (write_md(p, o->scene, res, nruns, &rr, &rf, use_path ? &pr : NULL, w, hgt, aa, mode,
+                 cl_name, e))
+        goto done;
     snprintf(p, sizeof p, "%s/error_vs_time.svg", tmpdir);
     if (write_svg(p, res, nruns, &rr, &rf, e)) goto done;
     if (remove_report_dir(out_dir, e)) goto done;
