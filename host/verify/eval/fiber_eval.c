@@ -141,7 +141,7 @@ const char *sl_eval_check_input(sl_eval_range range, double *v) {
 }
 
 size_t sl_eval_num_outputs(sl_eval_quantity q, const sl_material *m) {
-    int deon = m && m->model == SL_MODEL_DEON;
+    int deon = m && m->model != SL_MODEL_MARSCHNER; /* chiang: the d'Eon layout, orders 2 */
     switch (q) {
     case SL_EVAL_SCATTER:
     case SL_EVAL_SRBF:
@@ -175,7 +175,7 @@ void sl_eval_output_name(sl_eval_quantity q, const sl_material *m, int ch, size_
     switch (q) {
     case SL_EVAL_SCATTER:
     case SL_EVAL_SRBF:
-        if (m->model == SL_MODEL_DEON) {
+        if (m->model != SL_MODEL_MARSCHNER) {
             if (k + 2 < nout)
                 snprintf(base, sizeof base, "%s_%zu", prefix, k);
             else

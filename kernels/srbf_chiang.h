@@ -1,0 +1,267 @@
+/* srbf_chiang.h: the fast SRBF response of the Chiang 2016 model (`eval srbf --method fast` with
+ * `model: chiang`), float; part of the d'Eon fast path (included by kernels/srbf_deon.h after
+ * the helpers it shares: the longitudinal lobes, the W and C lookups, R's Fresnel fit).
+ * Derivation and measurements: docs/srbf.md, "Chiang fast path".
+ *
+ * numerics.md sec. 3 "chiang" has d'Eon's structure: f = sum_{p<=2} M_p(v_p, ti, to - 2 alpha_p)
+ * N_p(phi) + M(v_2, ti, to) E_3 / (2 pi), N_p = 1/2 int A_p(h) D_s(phi - Phi(p, h)) dh with D_s
+ * the logistic of scale s trimmed to (-pi, pi). Unlike d'Eon's, A_p (Fresnel at cos to cos
+ * gamma, eta' and absorption from theta_o) and hence N_p do not depend on theta_i: one
+ * evaluation of the nodes' A_p per row serves every theta_i. With G = G_th G_ph (Xu appendix A),
+ *   I_p = int cos ti G_th M_p N'_p d ti,  N'_p / z = sum_n k_n(ti) cos(n phi) B_n,
+ * k_n = rho_n(kappa) d_n(s) the kernel's harmonics (rho_n = I_n / I_0 of the von Mises G_ph,
+ * d_n the detector's), B_n = sum_i A_p(c_i) h_p[n][i] (the 4-node root measure's harmonics,
+ * tabulated per 1/eta'). Two branches per theta_i:
+ *  - wide (|k_NH| < SL_SRBF_CH_EPS): the harmonic sum itself, n <= SL_SRBF_CH_NH: exact in the
+ *    detector (its shape, the trimming) and in the SRBF convolution, up to the truncation;
+ *  - narrow (a sharp lobe on a sharp detector, s < ~0.23): the W product quadrature of the d'Eon
+ *    path with the logistic as the mixture of two Gaussians (std SL_SRBF_CH_MIX_S1 s and _S2 s,
+ *    weights w, 1 - w: 0.3 % of the logistic's peak) folded into the width as d'Eon's detector,
+ *    lambda3^2 = lambda'^2 + 2 sigma^2 per component (trimming is negligible there).
+ * The wide branch's B_n use 8 nodes in c (SL_SRBF_CH_NODES), the narrow branch the W slices'
+ * 4. R, narrow: Xu's C_k expansion of the Fresnel fit and the residual through the 4 nodes, as
+ * d'Eon's, plus the residual's interpolation error at phi itself (the kernel -> 0 limit, where
+ * 4 nodes are up to 6 % off near backscattering). The rest term's lobe (v_2, theta_o unshifted)
+ * has a uniform azimuth: N'_3 / z = E_3 / (2 pi) (E_3 by the 8 nodes). */
+#ifndef SL_SRBF_CHIANG_H
+#define SL_SRBF_CHIANG_H
+
+/* The logistic of unit scale as w N(0, S1^2) + (1 - w) N(0, S2^2): a sup-norm fit on the real
+ * line, max error 0.30 % of the logistic's peak (a single Gaussian of the same variance is 12 %
+ * off at the peak). */
+#define SL_SRBF_CH_MIX_W 0.4449f
+#define SL_SRBF_CH_MIX_S1 1.21797f
+#define SL_SRBF_CH_MIX_S2 2.12348f
+/* The wide branch is taken when the last harmonic of the kernel is below this (truncation
+ * error ~ its size: the harmonics beyond decay faster). */
+#define SL_SRBF_CH_EPS 1e-4f
+
+#if SL_OPENCL
+static __constant float sl_srbf_ch_c[SL_SRBF_CH_NODES] = SL_SRBF_CH_C;
+static __constant float sl_srbf_ch_s[SL_SRBF_CH_NODES] = SL_SRBF_CH_S;
+#else
+static const float sl_srbf_ch_c[SL_SRBF_CH_NODES] = SL_SRBF_CH_C;
+static const float sl_srbf_ch_s[SL_SRBF_CH_NODES] = SL_SRBF_CH_S;
+#endif
+
+/* What a row shares across theta_i (one colour channel). */
+typedef struct sl_srbf_chiang_row {
+    float x, phi, s;
+    float d_nh;                  /* the detector's last harmonic d_NH(s) */
+    float A[3][SL_SRBF_W_NODES]; /* the narrow branch's 4 nodes: R's F - P, TT, TRT */
+    float poly[6];               /* R, narrow: a_j cos^j theta_o / 4, the fit's terms in C_k */
+    float r_err;                 /* R, narrow: the residual's interpolation error at phi */
+    float rest;                  /* N'_3 / z = E_3 / (2 pi) */
+    float c[3][SL_SRBF_CH_NHV];  /* cos(n phi) d_n B_n per group: the wide branch's sum */
+} sl_srbf_chiang_row;
+
+/* d_n(s), n = 0..SL_SRBF_CH_NH, from the table (linear in log s); below its range the
+ * untrimmed logistic's x / sinh x, x = pi s n (the trimming is e^(-pi/s) < 1e-270 there). */
+SL_INLINE void sl_srbf_chiang_detector(SL_GLOBAL const float *D, float s, float d[SL_SRBF_CH_NHV]) {
+    if (s < SL_SRBF_CH_SMIN) {
+        for (int n = 0; n < SL_SRBF_CH_NHV; n++) {
+            float x = SL_PI_F * s * (float)n, x2 = x * x;
+            d[n] = 1.0f - x2 * (1.0f / 6.0f) + x2 * x2 * (7.0f / 360.0f); /* x <= 0.26 */
+        }
+        return;
+    }
+    int is;
+    float fs = sl_srbf_grid(log(s), log(SL_SRBF_CH_SMIN), log(SL_SRBF_CH_SMAX), SL_SRBF_CH_NS, &is);
+    SL_GLOBAL const float *b = D + SL_SRBF_CH_DET_OFF + is * SL_SRBF_CH_NHV;
+    for (int n = 0; n < SL_SRBF_CH_NHV; n++)
+        d[n] = b[n] + (b[n + SL_SRBF_CH_NHV] - b[n]) * fs;
+}
+
+/* rho_n = I_n(k) / I_0(k), n = 0..SL_SRBF_CH_NH: the ratios r_n = I_n / I_(n-1) by the stable
+ * downward recurrence r_n = 1 / (2n/k + r_(n+1)), started 8 orders above NH from the mean of
+ * Amos's bounds k / (n - 1/2 + sqrt((n -+ 1/2)^2 + k^2)): where the recurrence does not damp the
+ * start's error (large k), the bounds' gap (~n / k^2 relative) is below float resolution, and
+ * where they are loose (moderate k) the 8 extra steps damp it by prod r_n^2 < 1e-4. */
+SL_INLINE void sl_srbf_chiang_vm(float k, float rho[SL_SRBF_CH_NHV]) {
+    rho[0] = 1.0f;
+    if (!(k > 1e-30f)) {
+        for (int n = 1; n < SL_SRBF_CH_NHV; n++)
+            rho[n] = 0.0f;
+        return;
+    }
+    const int top = SL_SRBF_CH_NH + 8;
+    const float nu = (float)top + 1.0f;
+    float r = 0.5f * (k / (nu - 0.5f + sqrt((nu + 0.5f) * (nu + 0.5f) + k * k)) +
+                      k / (nu - 0.5f + sqrt((nu - 0.5f) * (nu - 0.5f) + k * k)));
+    float rr[SL_SRBF_CH_NHV];
+    for (int n = top; n >= 1; n--) {
+        r = 1.0f / (2.0f * (float)n / k + r);
+        if (n <= SL_SRBF_CH_NH) rr[n] = r;
+    }
+    for (int n = 1; n < SL_SRBF_CH_NHV; n++)
+        rho[n] = rho[n - 1] * rr[n];
+}
+
+/* The Fresnel factor and transmittance of Chiang's A_p at node (sin, cos of gamma): f at
+ * cos theta_o c, T = exp(-k2 cos gamma_t) with k2 = 2 sigma_a / cos theta_t, sin gamma_t = h x. */
+SL_INLINE void sl_srbf_chiang_fT(float eta, float co, float x, float k2, float sn, float cn,
+                                 float *F, float *T) {
+    float sg = sn * x;
+    *F = sl_fresnel_exact(eta, co * cn);
+    *T = exp(-k2 * sqrt(sl_maxf(1.0f - sg * sg, 0.0f)));
+}
+
+/* The row's constants: A_p at the nodes (pbrt-v4 / numerics.md: Fresnel at cos theta_o c,
+ * eta' = sqrt(eta^2 - sin^2 to) / cos to, T = exp(-2 sigma_a cos gamma_t / cos theta_t)), the
+ * rest term's energy, R's narrow-branch correction, and per group the wide branch's sum. */
+SL_INLINE void sl_srbf_chiang_row_init(const sl_fiber_params *fp, SL_GLOBAL const float *D,
+                                       float theta_o, float phi, sl_srbf_chiang_row *r) {
+    float eta = fp->eta, so = sin(theta_o), co = sl_maxf(cos(theta_o), 0.0f);
+    /* x = 1/eta' = cos to / sqrt(eta^2 - sin^2 to): 0 at grazing, no division by cos to */
+    float x = sl_minf(co / sqrt(sl_maxf(eta * eta - so * so, 1e-30f)), 1.0f);
+    float st = so / eta, ct = sqrt(sl_maxf(1.0f - st * st, 1e-30f));
+    float k2 = 2.0f * fp->sigma_a / ct;
+    float a[6], F, T;
+    sl_srbf_deon_fit(D, eta, a);
+    r->x = x;
+    r->phi = phi;
+    r->s = fp->logistic_s;
+    /* the narrow branch's 4 nodes (the W slices') */
+    for (int i = 0; i < SL_SRBF_W_NODES; i++) {
+        float ci = co * sl_srbf_w_c[i];
+        sl_srbf_chiang_fT(eta, co, x, k2, sl_srbf_w_s[i], sl_srbf_w_c[i], &F, &T);
+        float P = a[0] + ci * (a[1] + ci * (a[2] + ci * (a[3] + ci * (a[4] + ci * a[5]))));
+        float A1 = (1.0f - F) * (1.0f - F) * T;
+        r->A[0][i] = F - P;
+        r->A[1][i] = A1;
+        r->A[2][i] = A1 * T * F;
+    }
+    float xp = 0.25f;
+    for (int j = 0; j < 6; j++) {
+        r->poly[j] = a[j] * xp;
+        xp *= co;
+    }
+    /* R at phi in the kernel -> 0 limit: N_0 = 1/4 c F(cos to c), c = |cos(phi/2)|, where the
+     * narrow branch has 1/4 c (P + sum_i L_i(c) (F - P)_i): its error, added back there */
+    {
+        float c = fabs(cos(0.5f * phi)), ci = co * c;
+        float P = a[0] + ci * (a[1] + ci * (a[2] + ci * (a[3] + ci * (a[4] + ci * a[5]))));
+        float li = 0.0f;
+        for (int i = 0; i < SL_SRBF_W_NODES; i++) {
+            float L = 1.0f;
+            for (int j = 0; j < SL_SRBF_W_NODES; j++)
+                if (j != i) L *= (c - sl_srbf_w_c[j]) / (sl_srbf_w_c[i] - sl_srbf_w_c[j]);
+            li += L * r->A[0][i];
+        }
+        r->r_err = 0.25f * c * (sl_fresnel_exact(eta, ci) - P - li);
+    }
+    /* the wide branch's 8 nodes; the rest term's energy sum_{p >= 3} A_p = A_2 T f / (1 - T f)
+     * by them (h_R[0][i] = the nodes' uniform-azimuth weights omega_i / (2 pi)) */
+    float A8[3][SL_SRBF_CH_NODES];
+    r->rest = 0.0f;
+    for (int i = 0; i < SL_SRBF_CH_NODES; i++) {
+        sl_srbf_chiang_fT(eta, co, x, k2, sl_srbf_ch_s[i], sl_srbf_ch_c[i], &F, &T);
+        float A1 = (1.0f - F) * (1.0f - F) * T, A2 = A1 * T * F, den = 1.0f - T * F;
+        A8[0][i] = F;
+        A8[1][i] = A1;
+        A8[2][i] = A2;
+        if (den > 0.0f) r->rest += A2 * T * F / den * D[SL_SRBF_CH_R_OFF + i];
+    }
+    float d[SL_SRBF_CH_NHV];
+    sl_srbf_chiang_detector(D, r->s, d);
+    r->d_nh = d[SL_SRBF_CH_NH];
+    int ix;
+    float fx = sl_srbf_grid(x, 0.0f, 1.0f, SL_SRBF_CH_NX, &ix);
+    float c1 = cos(phi), cm = 1.0f, cn = c1; /* cos(n phi) by the Chebyshev recurrence */
+    for (int n = 0; n < SL_SRBF_CH_NHV; n++) {
+        float cosn = n == 0 ? 1.0f : cn;
+        if (n > 0) {
+            float nx = 2.0f * c1 * cn - cm;
+            cm = cn;
+            cn = nx;
+        }
+        SL_GLOBAL const float *hr = D + SL_SRBF_CH_R_OFF + n * SL_SRBF_CH_NODES;
+        float b0 = 0.0f;
+        for (int i = 0; i < SL_SRBF_CH_NODES; i++)
+            b0 += A8[0][i] * hr[i];
+        r->c[0][n] = cosn * d[n] * b0;
+        for (int g = 1; g < 3; g++) {
+            SL_GLOBAL const float *h0 = D + SL_SRBF_CH_OFF + (g - 1) * SL_SRBF_CH_SLICE +
+                                        (ix * SL_SRBF_CH_NHV + n) * SL_SRBF_CH_NODES;
+            SL_GLOBAL const float *h1 = h0 + SL_SRBF_CH_NHV * SL_SRBF_CH_NODES;
+            float b = 0.0f;
+            for (int i = 0; i < SL_SRBF_CH_NODES; i++)
+                b += A8[g][i] * (h0[i] + (h1[i] - h0[i]) * fx);
+            r->c[g][n] = cosn * d[n] * b;
+        }
+    }
+}
+
+/* N'_g / z of group g (0 R, 1 TT, 2 TRT) by the narrow branch at the table width lam3. */
+SL_INLINE float sl_srbf_chiang_narrow(const sl_srbf_chiang_row *r, SL_GLOBAL const float *C,
+                                      SL_GLOBAL const float *H, int g, float lam3) {
+    if (g == 0) {
+        float Cn[7], t = sl_srbf_deon_wide(lam3), v = 0.0f;
+        sl_srbf_C(C, lam3, r->phi, Cn);
+        for (int j = 0; j < 6; j++)
+            v += r->poly[j] * (sl_srbf_deon_cu[j + 1] + t * (Cn[j + 1] - sl_srbf_deon_cu[j + 1]));
+        return v + sl_srbf_deon_W3(H, 2, 0.0f, lam3, r->phi, r->A[0]) + r->r_err;
+    }
+    return sl_srbf_deon_W3(H, g - 1, r->x, lam3, r->phi, r->A[g]);
+}
+
+/* N'_g / z at the von Mises concentration kappa of G_ph (one theta_i). */
+SL_INLINE float sl_srbf_chiang_az(const sl_srbf_chiang_row *r, SL_GLOBAL const float *C,
+                                  SL_GLOBAL const float *H, int g, float kappa) {
+    float rho[SL_SRBF_CH_NHV];
+    sl_srbf_chiang_vm(kappa, rho);
+    /* |k_NH| = rho_NH |d_NH| */
+    if (fabs(rho[SL_SRBF_CH_NH] * r->d_nh) < SL_SRBF_CH_EPS) {
+        float v = 0.0f;
+        for (int n = 0; n < SL_SRBF_CH_NHV; n++)
+            v += rho[n] * r->c[g][n];
+        return sl_maxf(v, 0.0f);
+    }
+    float l2 = kappa > 1e-30f ? 2.0f / kappa : 1e30f, s = r->s;
+    float s1 = SL_SRBF_CH_MIX_S1 * s, s2 = SL_SRBF_CH_MIX_S2 * s;
+    float la = sqrt(sl_minf(l2 + 2.0f * s1 * s1, 1e30f)),
+          lb = sqrt(sl_minf(l2 + 2.0f * s2 * s2, 1e30f));
+    float v = SL_SRBF_CH_MIX_W * sl_srbf_chiang_narrow(r, C, H, g, la) +
+              (1.0f - SL_SRBF_CH_MIX_W) * sl_srbf_chiang_narrow(r, C, H, g, lb);
+    return sl_maxf(v, 0.0f);
+}
+
+/* The response to one SRBF lobe, out[0..4] = I_0, I_1, I_2, I_rest, I (the d'Eon layout with
+ * orders 2). */
+SL_INLINE void sl_srbf_chiang(const sl_fiber_params *fp, SL_GLOBAL const float *C,
+                              SL_GLOBAL const float *H, SL_GLOBAL const float *D, float theta_o,
+                              float phi_o, float theta_j, float phi_j, float lambda, float *out) {
+    float cos_tj = sl_maxf(cos(theta_j), 0.0f), sin_tj = sin(theta_j);
+    float inv_l2 = 1.0f / (lambda * lambda);
+    float floor_ = sl_srbf_deon_floor(lambda, inv_l2);
+    sl_srbf_chiang_row r;
+    sl_srbf_chiang_row_init(fp, D, theta_o, sl_wrap_pi(phi_o - phi_j), &r);
+    for (int k = 0; k < 5; k++)
+        out[k] = 0.0f;
+    /* the trimmed logistic's peak 1 / (4 s tanh(pi / 2s)) bounds every N_p / E_p */
+    float s = sl_maxf(fp->logistic_s, 1e-30f);
+    float dmax = 0.25f / (s * tanh(0.5f * SL_PI_F / s));
+    for (int g = 0; g < 4; g++) {
+        int lobe = g < 3 ? g : 2; /* the rest term: TRT's variance, theta_o unshifted */
+        float v = fp->beta[lobe] * fp->beta[lobe];
+        float tho = g < 3 ? theta_o - 2.0f * fp->alpha[g] : theta_o;
+        sl_srbf_deon_lobe L;
+        if (!sl_srbf_deon_lobe_init(v, tho, theta_j, cos_tj, sin_tj, inv_l2, &L)) continue;
+        if (g == 3) {
+            out[3] += L.wsum * r.rest; /* uniform azimuth: exact at every node */
+            continue;
+        }
+        /* skip as the d'Eon path does (sum_p E_p <= 1 times the detector's peak; R <= 1/4) */
+        float bound = g == 0 ? 0.25f : dmax;
+        if (!(L.wsum * bound > 1e-4f * floor_)) continue;
+        float fz[3][SL_DEON_MAX_ORDERS + 1];
+        for (int j = 0; j < 3; j++) {
+            float kappa = 2.0f * cos(sl_srbf_deon_lobe_ti(&L, j)) * cos_tj * inv_l2;
+            fz[j][0] = sl_srbf_chiang_az(&r, C, H, g, kappa);
+        }
+        sl_srbf_deon_lobe_add(&L, fz, 1, out + g);
+    }
+    sl_srbf_deon_total(2, out);
+}
+
+#endif
