@@ -44,15 +44,22 @@ static const float sl_srbf_ch_c[SL_SRBF_CH_NODES] = SL_SRBF_CH_C;
 static const float sl_srbf_ch_s[SL_SRBF_CH_NODES] = SL_SRBF_CH_S;
 #endif
 
-/* What a row shares across theta_i (one colour channel). */
+/* Colour channels one evaluation serves (the renderer's rows: r, g, b differ in sigma_a only). */
+#define SL_SRBF_CH_MAXC 3
+
+/* What a row shares across theta_i, for nch channels. R (A_0 = f) does not depend on sigma_a:
+ * one R for all channels. */
 typedef struct sl_srbf_chiang_row {
+    int nch;
     float x, phi, s;
-    float d_nh;                  /* the detector's last harmonic d_NH(s) */
-    float A[3][SL_SRBF_W_NODES]; /* the narrow branch's 4 nodes: R's F - P, TT, TRT */
-    float poly[6];               /* R, narrow: a_j cos^j theta_o / 4, the fit's terms in C_k */
-    float r_err;                 /* R, narrow: the residual's interpolation error at phi */
-    float rest;                  /* N'_3 / z = E_3 / (2 pi) */
-    float c[3][SL_SRBF_CH_NHV];  /* cos(n phi) d_n B_n per group: the wide branch's sum */
+    float d_nh;                /* the detector's last harmonic d_NH(s) */
+    float AR[SL_SRBF_W_NODES]; /* R, narrow: F - P at the 4 nodes */
+    float poly[6];             /* R, narrow: a_j cos^j theta_o / 4, the fit's terms in C_k */
+    float r_err;               /* R, narrow: the residual's interpolation error at phi */
+    float cR[SL_SRBF_CH_NHV];  /* R, wide: cos(n phi) d_n B_n */
+    float A[SL_SRBF_CH_MAXC][2][SL_SRBF_W_NODES]; /* TT, TRT, narrow: A_p at the 4 nodes */
+    float c[SL_SRBF_CH_MAXC][2][SL_SRBF_CH_NHV];  /* TT, TRT, wide: cos(n phi) d_n B_n */
+    float rest[SL_SRBF_CH_MAXC];                  /* N'_3 / z = E_3 / (2 pi) */
 } sl_srbf_chiang_row;
 
 /* d_n(s), n = 0..SL_SRBF_CH_NH, from the table (linear in log s); below its range the
@@ -97,39 +104,41 @@ SL_INLINE void sl_srbf_chiang_vm(float k, float rho[SL_SRBF_CH_NHV]) {
         rho[n] = rho[n - 1] * rr[n];
 }
 
-/* The Fresnel factor and transmittance of Chiang's A_p at node (sin, cos of gamma): f at
- * cos theta_o c, T = exp(-k2 cos gamma_t) with k2 = 2 sigma_a / cos theta_t, sin gamma_t = h x. */
-SL_INLINE void sl_srbf_chiang_fT(float eta, float co, float x, float k2, float sn, float cn,
-                                 float *F, float *T) {
+/* cos gamma_t = sqrt(1 - (h x)^2) at a node of sin gamma sn (sin gamma_t = h / eta'). */
+SL_INLINE float sl_srbf_chiang_cgt(float sn, float x) {
     float sg = sn * x;
-    *F = sl_fresnel_exact(eta, co * cn);
-    *T = exp(-k2 * sqrt(sl_maxf(1.0f - sg * sg, 0.0f)));
+    return sqrt(sl_maxf(1.0f - sg * sg, 0.0f));
 }
 
 /* The row's constants: A_p at the nodes (pbrt-v4 / numerics.md: Fresnel at cos theta_o c,
  * eta' = sqrt(eta^2 - sin^2 to) / cos to, T = exp(-2 sigma_a cos gamma_t / cos theta_t)), the
- * rest term's energy, R's narrow-branch correction, and per group the wide branch's sum. */
+ * rest term's energy, R's narrow-branch correction, and per group the wide branch's sums; for
+ * nch channels of absorption sig[ch] (NULL: fp->sigma_a). */
 SL_INLINE void sl_srbf_chiang_row_init(const sl_fiber_params *fp, SL_GLOBAL const float *D,
-                                       float theta_o, float phi, sl_srbf_chiang_row *r) {
+                                       float theta_o, float phi, int nch, const float *sig,
+                                       sl_srbf_chiang_row *r) {
     float eta = fp->eta, so = sin(theta_o), co = sl_maxf(cos(theta_o), 0.0f);
     /* x = 1/eta' = cos to / sqrt(eta^2 - sin^2 to): 0 at grazing, no division by cos to */
     float x = sl_minf(co / sqrt(sl_maxf(eta * eta - so * so, 1e-30f)), 1.0f);
-    float st = so / eta, ct = sqrt(sl_maxf(1.0f - st * st, 1e-30f));
-    float k2 = 2.0f * fp->sigma_a / ct;
-    float a[6], F, T;
+    float st = so / eta, ict = 2.0f / sqrt(sl_maxf(1.0f - st * st, 1e-30f)); /* 2 / cos t */
+    float a[6];
     sl_srbf_deon_fit(D, eta, a);
+    r->nch = nch;
     r->x = x;
     r->phi = phi;
     r->s = fp->logistic_s;
     /* the narrow branch's 4 nodes (the W slices') */
     for (int i = 0; i < SL_SRBF_W_NODES; i++) {
-        float ci = co * sl_srbf_w_c[i];
-        sl_srbf_chiang_fT(eta, co, x, k2, sl_srbf_w_s[i], sl_srbf_w_c[i], &F, &T);
+        float ci = co * sl_srbf_w_c[i], F = sl_fresnel_exact(eta, ci);
         float P = a[0] + ci * (a[1] + ci * (a[2] + ci * (a[3] + ci * (a[4] + ci * a[5]))));
-        float A1 = (1.0f - F) * (1.0f - F) * T;
-        r->A[0][i] = F - P;
-        r->A[1][i] = A1;
-        r->A[2][i] = A1 * T * F;
+        float cg = sl_srbf_chiang_cgt(sl_srbf_w_s[i], x);
+        r->AR[i] = F - P;
+        for (int ch = 0; ch < nch; ch++) {
+            float T = exp(-(sig ? sig[ch] : fp->sigma_a) * ict * cg);
+            float A1 = (1.0f - F) * (1.0f - F) * T;
+            r->A[ch][0][i] = A1;
+            r->A[ch][1][i] = A1 * T * F;
+        }
     }
     float xp = 0.25f;
     for (int j = 0; j < 6; j++) {
@@ -146,21 +155,26 @@ SL_INLINE void sl_srbf_chiang_row_init(const sl_fiber_params *fp, SL_GLOBAL cons
             float L = 1.0f;
             for (int j = 0; j < SL_SRBF_W_NODES; j++)
                 if (j != i) L *= (c - sl_srbf_w_c[j]) / (sl_srbf_w_c[i] - sl_srbf_w_c[j]);
-            li += L * r->A[0][i];
+            li += L * r->AR[i];
         }
         r->r_err = 0.25f * c * (sl_fresnel_exact(eta, ci) - P - li);
     }
     /* the wide branch's 8 nodes; the rest term's energy sum_{p >= 3} A_p = A_2 T f / (1 - T f)
      * by them (h_R[0][i] = the nodes' uniform-azimuth weights omega_i / (2 pi)) */
-    float A8[3][SL_SRBF_CH_NODES];
-    r->rest = 0.0f;
+    float F8[SL_SRBF_CH_NODES], A8[SL_SRBF_CH_MAXC][2][SL_SRBF_CH_NODES];
+    for (int ch = 0; ch < nch; ch++)
+        r->rest[ch] = 0.0f;
     for (int i = 0; i < SL_SRBF_CH_NODES; i++) {
-        sl_srbf_chiang_fT(eta, co, x, k2, sl_srbf_ch_s[i], sl_srbf_ch_c[i], &F, &T);
-        float A1 = (1.0f - F) * (1.0f - F) * T, A2 = A1 * T * F, den = 1.0f - T * F;
-        A8[0][i] = F;
-        A8[1][i] = A1;
-        A8[2][i] = A2;
-        if (den > 0.0f) r->rest += A2 * T * F / den * D[SL_SRBF_CH_R_OFF + i];
+        float F = sl_fresnel_exact(eta, co * sl_srbf_ch_c[i]);
+        float cg = sl_srbf_chiang_cgt(sl_srbf_ch_s[i], x);
+        F8[i] = F;
+        for (int ch = 0; ch < nch; ch++) {
+            float T = exp(-(sig ? sig[ch] : fp->sigma_a) * ict * cg);
+            float A1 = (1.0f - F) * (1.0f - F) * T, A2 = A1 * T * F, den = 1.0f - T * F;
+            A8[ch][0][i] = A1;
+            A8[ch][1][i] = A2;
+            if (den > 0.0f) r->rest[ch] += A2 * T * F / den * D[SL_SRBF_CH_R_OFF + i];
+        }
     }
     float d[SL_SRBF_CH_NHV];
     sl_srbf_chiang_detector(D, r->s, d);
@@ -175,68 +189,91 @@ SL_INLINE void sl_srbf_chiang_row_init(const sl_fiber_params *fp, SL_GLOBAL cons
             cm = cn;
             cn = nx;
         }
+        float w = cosn * d[n];
         SL_GLOBAL const float *hr = D + SL_SRBF_CH_R_OFF + n * SL_SRBF_CH_NODES;
         float b0 = 0.0f;
         for (int i = 0; i < SL_SRBF_CH_NODES; i++)
-            b0 += A8[0][i] * hr[i];
-        r->c[0][n] = cosn * d[n] * b0;
-        for (int g = 1; g < 3; g++) {
-            SL_GLOBAL const float *h0 = D + SL_SRBF_CH_OFF + (g - 1) * SL_SRBF_CH_SLICE +
+            b0 += F8[i] * hr[i];
+        r->cR[n] = w * b0;
+        for (int g = 0; g < 2; g++) {
+            SL_GLOBAL const float *h0 = D + SL_SRBF_CH_OFF + g * SL_SRBF_CH_SLICE +
                                         (ix * SL_SRBF_CH_NHV + n) * SL_SRBF_CH_NODES;
             SL_GLOBAL const float *h1 = h0 + SL_SRBF_CH_NHV * SL_SRBF_CH_NODES;
-            float b = 0.0f;
+            float h[SL_SRBF_CH_NODES];
             for (int i = 0; i < SL_SRBF_CH_NODES; i++)
-                b += A8[g][i] * (h0[i] + (h1[i] - h0[i]) * fx);
-            r->c[g][n] = cosn * d[n] * b;
+                h[i] = h0[i] + (h1[i] - h0[i]) * fx;
+            for (int ch = 0; ch < nch; ch++) {
+                float b = 0.0f;
+                for (int i = 0; i < SL_SRBF_CH_NODES; i++)
+                    b += A8[ch][g][i] * h[i];
+                r->c[ch][g][n] = w * b;
+            }
         }
     }
 }
 
-/* N'_g / z of group g (0 R, 1 TT, 2 TRT) by the narrow branch at the table width lam3. */
-SL_INLINE float sl_srbf_chiang_narrow(const sl_srbf_chiang_row *r, SL_GLOBAL const float *C,
-                                      SL_GLOBAL const float *H, int g, float lam3) {
-    if (g == 0) {
-        float Cn[7], t = sl_srbf_deon_wide(lam3), v = 0.0f;
-        sl_srbf_C(C, lam3, r->phi, Cn);
-        for (int j = 0; j < 6; j++)
-            v += r->poly[j] * (sl_srbf_deon_cu[j + 1] + t * (Cn[j + 1] - sl_srbf_deon_cu[j + 1]));
-        return v + sl_srbf_deon_W3(H, 2, 0.0f, lam3, r->phi, r->A[0]) + r->r_err;
-    }
-    return sl_srbf_deon_W3(H, g - 1, r->x, lam3, r->phi, r->A[g]);
-}
-
-/* N'_g / z at the von Mises concentration kappa of G_ph (one theta_i). */
-SL_INLINE float sl_srbf_chiang_az(const sl_srbf_chiang_row *r, SL_GLOBAL const float *C,
-                                  SL_GLOBAL const float *H, int g, float kappa) {
+/* N'_g / z of group g (0 R, 1 TT, 2 TRT) at the von Mises concentration kappa of G_ph (one
+ * theta_i), into v[0..nch-1] (R: v[0] only, it is the same for every channel). */
+SL_INLINE void sl_srbf_chiang_az(const sl_srbf_chiang_row *r, SL_GLOBAL const float *C,
+                                 SL_GLOBAL const float *H, int g, float kappa, float *v) {
+    int nc = g == 0 ? 1 : r->nch;
     float rho[SL_SRBF_CH_NHV];
     sl_srbf_chiang_vm(kappa, rho);
-    /* |k_NH| = rho_NH |d_NH| */
-    if (fabs(rho[SL_SRBF_CH_NH] * r->d_nh) < SL_SRBF_CH_EPS) {
-        float v = 0.0f;
+    for (int ch = 0; ch < nc; ch++)
+        v[ch] = 0.0f;
+    if (fabs(rho[SL_SRBF_CH_NH] * r->d_nh) < SL_SRBF_CH_EPS) { /* |k_NH| = rho_NH |d_NH| */
         for (int n = 0; n < SL_SRBF_CH_NHV; n++)
-            v += rho[n] * r->c[g][n];
-        return sl_maxf(v, 0.0f);
+            for (int ch = 0; ch < nc; ch++)
+                v[ch] += rho[n] * (g == 0 ? r->cR[n] : r->c[ch][g - 1][n]);
+    } else {
+        /* narrow: the logistic as two Gaussians, each folded into the width */
+        float l2 = kappa > 1e-30f ? 2.0f / kappa : 1e30f, s = r->s;
+        for (int k = 0; k < 2; k++) {
+            float sk = (k ? SL_SRBF_CH_MIX_S2 : SL_SRBF_CH_MIX_S1) * s;
+            float wk = k ? 1.0f - SL_SRBF_CH_MIX_W : SL_SRBF_CH_MIX_W;
+            float lam3 = sqrt(sl_minf(l2 + 2.0f * sk * sk, 1e30f)), t = sl_srbf_deon_wide(lam3);
+            float W[SL_SRBF_W_NODES];
+            sl_srbf_W(H, g == 0 ? 2 : g - 1, r->x, lam3, r->phi, W);
+            for (int i = 0; i < SL_SRBF_W_NODES; i++) /* beyond the tables: see deon_wide */
+                W[i] = sl_srbf_deon_u[i] + t * (W[i] - sl_srbf_deon_u[i]);
+            if (g == 0) {
+                /* R: Xu's C_k of the Fresnel fit, the residual through the 4 nodes */
+                float Cn[7], q = 0.0f;
+                sl_srbf_C(C, lam3, r->phi, Cn);
+                for (int j = 0; j < 6; j++)
+                    q += r->poly[j] *
+                         (sl_srbf_deon_cu[j + 1] + t * (Cn[j + 1] - sl_srbf_deon_cu[j + 1]));
+                for (int i = 0; i < SL_SRBF_W_NODES; i++)
+                    q += r->AR[i] * W[i];
+                v[0] += wk * q;
+                continue;
+            }
+            for (int ch = 0; ch < nc; ch++) {
+                float q = 0.0f;
+                for (int i = 0; i < SL_SRBF_W_NODES; i++)
+                    q += r->A[ch][g - 1][i] * W[i];
+                v[ch] += wk * q;
+            }
+        }
+        if (g == 0) v[0] += r->r_err;
     }
-    float l2 = kappa > 1e-30f ? 2.0f / kappa : 1e30f, s = r->s;
-    float s1 = SL_SRBF_CH_MIX_S1 * s, s2 = SL_SRBF_CH_MIX_S2 * s;
-    float la = sqrt(sl_minf(l2 + 2.0f * s1 * s1, 1e30f)),
-          lb = sqrt(sl_minf(l2 + 2.0f * s2 * s2, 1e30f));
-    float v = SL_SRBF_CH_MIX_W * sl_srbf_chiang_narrow(r, C, H, g, la) +
-              (1.0f - SL_SRBF_CH_MIX_W) * sl_srbf_chiang_narrow(r, C, H, g, lb);
-    return sl_maxf(v, 0.0f);
+    for (int ch = 0; ch < nc; ch++)
+        v[ch] = sl_maxf(v[ch], 0.0f);
 }
 
-/* The response to one SRBF lobe, out[0..4] = I_0, I_1, I_2, I_rest, I (the d'Eon layout with
- * orders 2). */
-SL_INLINE void sl_srbf_chiang(const sl_fiber_params *fp, SL_GLOBAL const float *C,
-                              SL_GLOBAL const float *H, SL_GLOBAL const float *D, float theta_o,
-                              float phi_o, float theta_j, float phi_j, float lambda, float *out) {
+/* The response to one SRBF lobe for nch (1..3) channels of absorption sig[ch] (NULL:
+ * fp->sigma_a): out[5 ch + k], k = 0..4: I_0, I_1, I_2, I_rest, I (the d'Eon layout with orders
+ * 2). Everything but the absorption is computed once for all channels. */
+SL_INLINE void sl_srbf_chiang_rgb(const sl_fiber_params *fp, SL_GLOBAL const float *C,
+                                  SL_GLOBAL const float *H, SL_GLOBAL const float *D, float theta_o,
+                                  float phi_o, float theta_j, float phi_j, float lambda, int nch,
+                                  const float *sig, float *out) {
     float cos_tj = sl_maxf(cos(theta_j), 0.0f), sin_tj = sin(theta_j);
     float inv_l2 = 1.0f / (lambda * lambda);
     float floor_ = sl_srbf_deon_floor(lambda, inv_l2);
     sl_srbf_chiang_row r;
-    sl_srbf_chiang_row_init(fp, D, theta_o, sl_wrap_pi(phi_o - phi_j), &r);
-    for (int k = 0; k < 5; k++)
+    sl_srbf_chiang_row_init(fp, D, theta_o, sl_wrap_pi(phi_o - phi_j), nch, sig, &r);
+    for (int k = 0; k < 5 * nch; k++)
         out[k] = 0.0f;
     /* the trimmed logistic's peak 1 / (4 s tanh(pi / 2s)) bounds every N_p / E_p */
     float s = sl_maxf(fp->logistic_s, 1e-30f);
@@ -247,21 +284,33 @@ SL_INLINE void sl_srbf_chiang(const sl_fiber_params *fp, SL_GLOBAL const float *
         float tho = g < 3 ? theta_o - 2.0f * fp->alpha[g] : theta_o;
         sl_srbf_deon_lobe L;
         if (!sl_srbf_deon_lobe_init(v, tho, theta_j, cos_tj, sin_tj, inv_l2, &L)) continue;
-        if (g == 3) {
-            out[3] += L.wsum * r.rest; /* uniform azimuth: exact at every node */
+        if (g == 3) { /* uniform azimuth: exact at every node */
+            for (int ch = 0; ch < nch; ch++)
+                out[5 * ch + 3] += L.wsum * r.rest[ch];
             continue;
         }
         /* skip as the d'Eon path does (sum_p E_p <= 1 times the detector's peak; R <= 1/4) */
         float bound = g == 0 ? 0.25f : dmax;
         if (!(L.wsum * bound > 1e-4f * floor_)) continue;
-        float fz[3][SL_DEON_MAX_ORDERS + 1];
+        float fz[SL_SRBF_CH_MAXC][3][SL_DEON_MAX_ORDERS + 1];
         for (int j = 0; j < 3; j++) {
-            float kappa = 2.0f * cos(sl_srbf_deon_lobe_ti(&L, j)) * cos_tj * inv_l2;
-            fz[j][0] = sl_srbf_chiang_az(&r, C, H, g, kappa);
+            float kappa = 2.0f * cos(sl_srbf_deon_lobe_ti(&L, j)) * cos_tj * inv_l2, a[3];
+            sl_srbf_chiang_az(&r, C, H, g, kappa, a);
+            for (int ch = 0; ch < nch; ch++)
+                fz[ch][j][0] = a[g == 0 ? 0 : ch];
         }
-        sl_srbf_deon_lobe_add(&L, fz, 1, out + g);
+        for (int ch = 0; ch < nch; ch++)
+            sl_srbf_deon_lobe_add(&L, fz[ch], 1, out + 5 * ch + g);
     }
-    sl_srbf_deon_total(2, out);
+    for (int ch = 0; ch < nch; ch++)
+        sl_srbf_deon_total(2, out + 5 * ch);
+}
+
+/* One channel (fp->sigma_a): out[0..4] = I_0, I_1, I_2, I_rest, I. */
+SL_INLINE void sl_srbf_chiang(const sl_fiber_params *fp, SL_GLOBAL const float *C,
+                              SL_GLOBAL const float *H, SL_GLOBAL const float *D, float theta_o,
+                              float phi_o, float theta_j, float phi_j, float lambda, float *out) {
+    sl_srbf_chiang_rgb(fp, C, H, D, theta_o, phi_o, theta_j, phi_j, lambda, 1, (const float *)0, out);
 }
 
 #endif

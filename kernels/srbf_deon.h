@@ -411,6 +411,18 @@ SL_INLINE void sl_srbf_deon_rgb_row(const sl_fiber_params *fp, SL_GLOBAL const f
                                     SL_GLOBAL const float *H, SL_GLOBAL const float *D,
                                     float theta_o, float phi_o, float theta_j, float phi_j,
                                     float lambda, const float *sig, float out[9]) {
+    if (fp->model == 2) { /* chiang: one evaluation for the three channels */
+        float o[5 * SL_SRBF_CH_MAXC];
+        int nch = sig ? 3 : 1;
+        sl_srbf_chiang_rgb(fp, C, H, D, theta_o, phi_o, theta_j, phi_j, lambda, nch, sig, o);
+        for (int ch = 0; ch < 3; ch++) {
+            const float *c = o + 5 * (sig ? ch : 0);
+            out[ch] = c[0];
+            out[3 + ch] = c[1];
+            out[6 + ch] = c[2] + c[3];
+        }
+        return;
+    }
     int n = sl_srbf_deon_orders(fp);
     sl_fiber_params q = *fp;
     float o[SL_SRBF_DEON_NOUT];
