@@ -1,14 +1,17 @@
 /* fiber_c.c: the C twin's batch drivers (see fiber_c.h). Each row calls the float entry point of
- * kernels/fiber_marschner.h, kernels/fiber_deon.h or kernels/fiber_furnace.h, exactly as the
- * OpenCL kernels in kernels/fiber.cl do. The per-row work is branchy (root solves,
- * adaptive windows), so SSE lanes across rows do not pay here: it is plain scalar float. */
+ * kernels/fiber_marschner.h, kernels/fiber_deon.h, kernels/fiber_chiang.h or
+ * kernels/fiber_furnace.h, exactly as the OpenCL kernels in kernels/fiber.cl do. The per-row
+ * work is branchy (root solves, adaptive windows), so SSE lanes across rows do not pay here: it is
+ * plain scalar float. */
 #include "fiber_c.h"
 
+#include "fiber_chiang.h"
 #include "fiber_deon.h"
 #include "fiber_furnace.h"
 #include "fiber_marschner.h"
 
 size_t slc_scatter_width(const sl_fiber_params *fp) {
+    if (fp->model == 2) return 5; /* chiang: f_0, f_1, f_2, f_rest, f */
     return fp->model == 1 ? (size_t)fp->orders + 3 : 4;
 }
 
@@ -17,7 +20,9 @@ void slc_scatter_batch(const sl_fiber_params *fp, size_t n, const float *in, flo
     for (size_t i = 0; i < n; i++) {
         const float *r = in + 4 * i;
         float *o = out + w * i;
-        if (fp->model == 1)
+        if (fp->model == 2)
+            sl_chiang_scatter(fp, r[0], r[1], r[2], r[3], o);
+        else if (fp->model == 1)
             sl_deon_scatter(fp, r[0], r[1], r[2], r[3], o);
         else
             sl_marschner_scatter(fp, r[0], r[1], r[2], r[3], o);

@@ -9,7 +9,8 @@
 #include "fiber_params.h"
 
 /* in: 4 floats per row (theta_i, phi_i, theta_o, phi_o); out: 4 per row (marschner: f_R, f_TT,
- * f_TRT, f) or orders + 3 per row (deon: f_0..f_orders, f_rest, f). */
+ * f_TRT, f), orders + 3 per row (deon: f_0..f_orders, f_rest, f) or 5 (chiang: f_0, f_1, f_2,
+ * f_rest, f). */
 void slc_scatter_batch(const sl_fiber_params *fp, size_t n, const float *in, float *out);
 /* Number of output floats per row of slc_scatter_batch for this material. */
 size_t slc_scatter_width(const sl_fiber_params *fp);

@@ -1,9 +1,10 @@
 /* fiber.cl: OpenCL kernels behind `strandlight eval` for the fiber quantities
- * (numerics.md sec. 5), one work-item per row; host side in host/passes/shade/fiber_cl.c. They call the same
- * float headers as the C twin (cpu/fiber_c.c), so both backends agree to float rounding.
+ * (numerics.md sec. 5), one work-item per row; host side in host/passes/shade/fiber_cl.c. They call
+ * the same float headers as the C twin (cpu/fiber_c.c), so both backends agree to float rounding.
  *   sl_scatter_eval:  in theta_i, phi_i, theta_o, phi_o -> f per mode + total (width floats)
  *   sl_deon_mp_eval:  in v, theta_i, theta_o            -> M, log_M
  *   sl_furnace_eval:  in theta_o, phi_o                 -> albedo */
+#include "fiber_chiang.h"
 #include "fiber_deon.h"
 #include "fiber_furnace.h"
 #include "fiber_marschner.h"
@@ -17,7 +18,9 @@ __kernel void sl_scatter_eval(const sl_fiber_params fp_arg, const uint n, __glob
     __global const float *r = in + 4 * i;
     for (uint k = 0; k < width && k < SL_DEON_MAX_ORDERS + 3; k++)
         o[k] = 0.0f;
-    if (fp.model == 1)
+    if (fp.model == 2)
+        sl_chiang_scatter(&fp, r[0], r[1], r[2], r[3], o);
+    else if (fp.model == 1)
         sl_deon_scatter(&fp, r[0], r[1], r[2], r[3], o);
     else
         sl_marschner_scatter(&fp, r[0], r[1], r[2], r[3], o);

@@ -8,10 +8,19 @@
  * d'Eon it integrates every Gaussian detector of the sampled N_p to ~e^-(n beta)^2/2 ~ 4e-5, so the
  *    N_p quadrature in h needs no resolution of the detector and a fixed 6-panel rule is used.
  * Accuracy (measured, docs/numerics-deon.md): d'Eon with sigma_a = 0 gives 1 within 1e-3 for
- * beta 1..60 deg. The double reference is cpu/reference/furnace_ref.c. */
+ * beta 1..60 deg. The double reference is cpu/reference/furnace_ref.c.
+ *
+ * Chiang (sl_furnace_chiang): the float f_p is M_p(theta_i) times Nbar_p(phi) (fiber_chiang.h:
+ * A_p and Phi depend on theta_o and h only), so the same tensor-product rule (theta_i panels x
+ * phi trapezoid) is evaluated as the product of its two 1-D sums, per lobe: theta_i by the
+ * panels above (breakpoints at the lobe's cone and the grazing boundary layers), phi by the
+ * periodic trapezoid with n_phi = clamp(4.5 / s, 128, 2048), which integrates a sampled logistic
+ * of scale s to ~e^{-pi s n_phi} and its trimming kink (slope jump at +-pi, large s) to ~1e-6.
+ * Measured: docs/numerics-chiang.md. */
 #ifndef SL_FIBER_FURNACE_H
 #define SL_FIBER_FURNACE_H
 
+#include "fiber_chiang.h"
 #include "fiber_deon.h"
 #include "fiber_marschner.h"
 
@@ -67,7 +76,81 @@ SL_INLINE float sl_furnace_phi_sum(const sl_fiber_params *fp, float theta_i, flo
     return sum * dphi;
 }
 
+/* Sorts pts[0..n) (insertion sort, n <= SL_FURNACE_MAX_PTS). */
+SL_INLINE void sl_furnace_sort(float *pts, int n) {
+    for (int i = 1; i < n; i++) {
+        float x = pts[i];
+        int j = i - 1;
+        while (j >= 0 && pts[j] > x) {
+            pts[j + 1] = pts[j];
+            j--;
+        }
+        pts[j + 1] = x;
+    }
+}
+
+/* integral_{-pi/2}^{pi/2} M_p(theta_i) cos theta_i d theta_i of chiang lobe p (0..3) by 8-point
+ * Gauss-Legendre panels no longer than 0.5 rad between breakpoints at the cone +-1, 2, 4, 8
+ * widths (width sqrt(v_p)) and the same distances from the poles. */
+SL_INLINE float sl_furnace_chiang_mp(const sl_fiber_params *fp, int p, float theta_o) {
+    const float gx[4] = {0.1834346425f, 0.5255324099f, 0.7966664774f, 0.9602898565f};
+    const float gw[4] = {0.3626837834f, 0.3137066459f, 0.2223810345f, 0.1012285363f};
+    float width = fp->beta[p < 2 ? p : 2];
+    /* the cone sits at -theta_o'; past a pole it is the direction +-pi - theta_o' (M depends
+     * on sin and |cos| only) */
+    float c = p < 3 ? 2.0f * fp->alpha[p] - theta_o : -theta_o;
+    if (c > 0.5f * SL_PI_F) c = SL_PI_F - c;
+    if (c < -0.5f * SL_PI_F) c = -SL_PI_F - c;
+    float pts[SL_FURNACE_MAX_PTS];
+    int n = 0;
+    pts[n++] = -0.5f * SL_PI_F;
+    pts[n++] = 0.5f * SL_PI_F;
+    n = sl_furnace_add_peak(pts, n, c, width);
+    n = sl_furnace_add_peak(pts, n, -0.5f * SL_PI_F, width);
+    n = sl_furnace_add_peak(pts, n, 0.5f * SL_PI_F, width);
+    sl_furnace_sort(pts, n);
+    float total = 0.0f;
+    for (int i = 0; i + 1 < n; i++) {
+        float a = pts[i], b = pts[i + 1];
+        if (!(b > a)) continue;
+        int sub = (int)ceil((b - a) / 0.5f);
+        float hw = 0.5f * (b - a) / (float)sub;
+        for (int k = 0; k < sub; k++) {
+            float mid = a + (2.0f * (float)k + 1.0f) * hw;
+            for (int j = 0; j < 8; j++) {
+                float ti = mid + (j < 4 ? -gx[j] : gx[j - 4]) * hw;
+                float w = gw[j < 4 ? j : j - 4] * hw;
+                total += w * cos(ti) * exp(sl_chiang_log_mp(fp, p, ti, theta_o));
+            }
+        }
+    }
+    return total;
+}
+
+/* The chiang albedo: sum_p [integral M_p cos ti d ti] [integral Nbar_p d phi] (+ the rest,
+ * whose azimuth is uniform: its phi integral is E_3). Independent of phi_o. */
+SL_INLINE float sl_furnace_chiang(const sl_fiber_params *fp, float theta_o) {
+    sl_chiang_geom g;
+    sl_chiang_geom_init(fp, theta_o, &g);
+    int panels = sl_chiang_default_panels(fp);
+    int nphi = (int)ceil(4.5f / g.s);
+    nphi = nphi < 128 ? 128 : (nphi > 2048 ? 2048 : nphi);
+    float dphi = SL_TWO_PI_F / (float)nphi;
+    float nint[3] = {0.0f, 0.0f, 0.0f}, e_rest = 0.0f;
+    for (int j = 0; j < nphi; j++) {
+        float np[3];
+        sl_chiang_azimuthal(&g, -SL_PI_F + ((float)j + 0.5f) * dphi, panels, np, &e_rest);
+        for (int p = 0; p < 3; p++)
+            nint[p] += np[p];
+    }
+    float total = sl_furnace_chiang_mp(fp, 3, theta_o) * e_rest;
+    for (int p = 0; p < 3; p++)
+        total += sl_furnace_chiang_mp(fp, p, theta_o) * nint[p] * dphi;
+    return total;
+}
+
 SL_INLINE float sl_furnace(const sl_fiber_params *fp, float theta_o, float phi_o) {
+    if (fp->model == 2) return sl_furnace_chiang(fp, theta_o);
     const float gx[4] = {0.1834346425f, 0.5255324099f, 0.7966664774f, 0.9602898565f};
     const float gw[4] = {0.3626837834f, 0.3137066459f, 0.2223810345f, 0.1012285363f};
     float pts[SL_FURNACE_MAX_PTS];
@@ -83,16 +166,7 @@ SL_INLINE float sl_furnace(const sl_fiber_params *fp, float theta_o, float phi_o
                                     1.41421356f * fp->beta[q]);
         bmin = sl_minf(bmin, fp->beta[q]);
     }
-    /* insertion sort (n <= 29) */
-    for (int i = 1; i < n; i++) {
-        float x = pts[i];
-        int j = i - 1;
-        while (j >= 0 && pts[j] > x) {
-            pts[j + 1] = pts[j];
-            j--;
-        }
-        pts[j + 1] = x;
-    }
+    sl_furnace_sort(pts, n); /* n <= 29 */
     if (fp->model != 1) bmin = sl_minf(bmin, sl_minf(fp->caustic_width, 0.2f));
     int nphi = (int)ceil(4.5f / sl_maxf(bmin, 1e-4f));
     nphi = nphi < 24 ? 24 : (nphi > 1024 ? 1024 : nphi);

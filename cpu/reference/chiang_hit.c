@@ -21,17 +21,22 @@ void slref_chiang_hit_init(const sl_material *m, int ch, double theta_o, double 
                            slref_chiang_hit *out) {
     if (h > 1.0) h = 1.0;
     if (h < -1.0) h = -1.0;
+    slref_chiang_hit_init_gamma(m, ch, theta_o, asin(h), out);
+}
+
+void slref_chiang_hit_init_gamma(const sl_material *m, int ch, double theta_o, double gamma_o,
+                                 slref_chiang_hit *out) {
     double eta = m->eta;
+    double h = sin(gamma_o), cos_go = cos(gamma_o);
     double so = sin(theta_o), co = cos(theta_o);
     /* eta' = sqrt(eta^2 - sin^2 theta_o) / cos theta_o; cos theta_o -> 0 sends eta' to infinity
      * and gamma_t to 0, which the limit of the formulas below handles (sin gamma_t = h / eta'). */
     double sin_gt = h * co / sqrt(eta * eta - so * so);
     double cos_gt = sqrt(fmax(0.0, 1.0 - sin_gt * sin_gt));
     double st = so / eta, ct = sqrt(fmax(0.0, 1.0 - st * st));
-    double cos_go = sqrt(fmax(0.0, 1.0 - h * h));
-    double f = sld_fresnel_exact(eta, co * cos_go);
+    double f = sld_fresnel_exact(eta, co * fabs(cos_go));
     double T = exp(-m->sigma_a[ch] * (2.0 * cos_gt / ct));
-    out->gamma_o = asin(h);
+    out->gamma_o = gamma_o;
     out->gamma_t = asin(sin_gt);
     out->A[0] = f;
     out->A[1] = (1.0 - f) * (1.0 - f) * T;
@@ -46,7 +51,9 @@ double slref_logistic(double x, double s) {
     return e / (s * (1.0 + e) * (1.0 + e));
 }
 
-double slref_logistic_cdf(double x, double s) { return 1.0 / (1.0 + exp(-x / s)); }
+double slref_logistic_cdf(double x, double s) {
+    return 1.0 / (1.0 + exp(-x / s));
+}
 
 double slref_trimmed_logistic(double x, double s) {
     /* 1 - 2 cdf(-pi) = tanh(pi / (2 s)): no cancellation for small s. */

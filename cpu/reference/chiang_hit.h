@@ -27,6 +27,10 @@ typedef struct slref_chiang_hit {
 /* A_p and the angles at offset h in [-1, 1] for outgoing inclination theta_o, channel ch. */
 void slref_chiang_hit_init(const sl_material *m, int ch, double theta_o, double h,
                            slref_chiang_hit *out);
+/* The same at gamma_o = asin(h) given directly (the width average integrates in gamma_o: exact
+ * there, where asin(sin(gamma)) near |h| = 1 would lose half the digits). */
+void slref_chiang_hit_init_gamma(const sl_material *m, int ch, double theta_o, double gamma_o,
+                                 slref_chiang_hit *out);
 
 /* Logistic density of scale s, its CDF, and the density trimmed to [-pi, pi] (normalised there). */
 double slref_logistic(double x, double s);

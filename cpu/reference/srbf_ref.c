@@ -19,11 +19,18 @@
  *    int G_ph(phi_i) N_t(phi_o - phi_i) d phi_i over one period centred on the lobe, with the
  *    reference N_t of marschner_ref.c / deon_ref.c; d'Eon's rest term has a uniform azimuth:
  *    int G_ph E_rest / (2 pi) = E_rest i0e(kappa).
+ *  - chiang (geo = 1): as d'Eon with the logistic L_s trimmed to (-pi, pi) for the detector:
+ *    1/2 int A_p(h) K_L(phi_o - Phi(p, h)) dh, K_L(c) = int G_ph(x) L_s(c - x) dx in Fourier
+ *    series with L_s's coefficients b_n (slref_trimmed_logistic_fourier, closed form), A_p and
+ *    Phi from chiang_hit.c at theta_o (they do not depend on theta_i), integrated in
+ *    u = asin h with chiang_ref.c's breakpoints; the rest term is E_3 i0e(kappa).
  * Nothing here uses an approximation of the model: only quadrature error, which is controlled. */
 #include "srbf_ref.h"
 
 #include "quad.h"
 
+#include "chiang_hit.h"
+#include "chiang_ref.h"
 #include "deon_ref.h"
 #include "fiber_common_d.h"
 #include "marschner_ref.h"
@@ -70,6 +77,9 @@ typedef struct srbf_ctx {
     int p;                       /* d'Eon: order of the inner integral */
     const double *coef;          /* d'Eon: Fourier coefficients of K_d (see kd_coefs) */
     int ncoef;
+    const double *bn; /* chiang: Fourier coefficients of the trimmed logistic, bn[0..nbn) */
+    int nbn;
+    double e_rest; /* chiang: E_3 (depends on theta_o only) */
 } srbf_ctx;
 
 /* G_ph at phi_i: exp(-2 kappa sin^2((phi_i - phi_j)/2)). */
@@ -150,16 +160,14 @@ static void inner_trt_ecc(double phi_i, void *vc, double *out) {
  *   K_d(c) = sum_n e^-kappa I_n(kappa) e^(-n^2 beta^2 / 2) cos(n (c - phi_j)),
  * coef[n] = e^-kappa I_n(kappa) e^(-n^2 beta^2/2) (n >= 0, doubled for n >= 1); I_n / I_(n-1) by
  * the continued fraction at the top and the stable downward recurrence r_n = 1/(2n/k + r_(n+1)). */
-static int kd_coefs(double kappa, double beta, double *coef, int cap) {
-    int nb = (int)ceil(8.0 / beta), nk = (int)ceil(8.0 * sqrt(kappa)) + 10;
-    int n = nb < nk ? nb : nk;
-    if (n > cap - 1) n = cap - 1;
-    if (n < 1) n = 1;
+/* coef[0] = e^-kappa I_0(kappa), coef[k] = 2 e^-kappa I_k(kappa) for k = 1..n: the Fourier
+ * coefficients of G_ph, shared by every detector. */
+static void bessel_coefs(double kappa, int n, double *coef) {
     coef[0] = slref_i0e(kappa);
     if (!(kappa > 1e-300)) {
         for (int k = 1; k <= n; k++)
             coef[k] = 0.0;
-        return n + 1;
+        return;
     }
     /* r_(n+1) = I_(n+1)/I_n by modified Lentz on 1/(b_(n+1) + 1/(b_(n+2) + ...)), b_k = 2k/kappa */
     double tiny = 1e-300, f = tiny, C = f, D = 0.0;
@@ -182,10 +190,32 @@ static int kd_coefs(double kappa, double beta, double *coef, int cap) {
     double ie = coef[0];
     for (int k = 1; k <= n; k++) {
         ie *= r[k];
-        coef[k] = 2.0 * ie * exp(-0.5 * (double)k * (double)k * beta * beta);
+        coef[k] = 2.0 * ie;
     }
     free(r);
+}
+
+static int kd_coefs(double kappa, double beta, double *coef, int cap) {
+    int nb = (int)ceil(8.0 / beta), nk = (int)ceil(8.0 * sqrt(kappa)) + 10;
+    int n = nb < nk ? nb : nk;
+    if (n > cap - 1) n = cap - 1;
+    if (n < 1) n = 1;
+    bessel_coefs(kappa, n, coef);
+    for (int k = 1; k <= n; k++)
+        coef[k] *= exp(-0.5 * (double)k * (double)k * beta * beta);
     return n + 1;
+}
+
+/* Most Fourier terms of the chiang K_L: enough for lambda >= 0.003 (8 sqrt(kappa) + 10 terms). */
+#define CHIANG_NCOEF 4096
+
+/* Terms of K_L needed at kappa: those of G_ph (8 sqrt(kappa) + 10), or fewer where the
+ * logistic's own b_n are below 1e-17 (b_n ~ 2 pi s n e^{-pi s n} when e^{-pi/s} < 1e-17, i.e.
+ * s < 0.08; a larger s trims the logistic visibly, whose kink makes b_n fall only as 1/n^2). */
+static int chiang_nterms(double kappa, double s) {
+    double nk = ceil(8.0 * sqrt(kappa)) + 10.0;
+    if (s < 0.0798) nk = fmin(nk, ceil(15.0 / s) + 10.0);
+    return nk > CHIANG_NCOEF - 1 ? CHIANG_NCOEF - 1 : (int)nk;
 }
 
 static double kd_eval(const srbf_ctx *c, double cc) {
@@ -254,6 +284,47 @@ static double inner_marschner(srbf_ctx *c, int t) {
                         abs_tol, 400);
 }
 
+/* chiang: 1/2 A_p(sin u) cos u K_L(phi_o - Phi(p, sin u)). */
+static double inner_chiang(double u, void *vc) {
+    const srbf_ctx *c = vc;
+    slref_chiang_hit hk;
+    slref_chiang_hit_init_gamma(c->m, c->ch, c->theta_o, u, &hk);
+    double k = kd_eval(c, c->phi_o - slref_chiang_phi(c->p, hk.gamma_o, hk.gamma_t));
+    return 0.5 * hk.A[c->p] * cos(u) * k;
+}
+
+/* The chiang modes at one theta_i (outer() has set kappa, gth, cti into c). */
+static void outer_chiang(srbf_ctx *c, double ti, double gth, double cti, double *out) {
+    const sl_material *m = c->m;
+    double s = m->logistic_s;
+    int n = chiang_nterms(c->kappa, s);
+    if (n > c->nbn - 1) n = c->nbn - 1;
+    if (n < 1) n = 1;
+    double coef[CHIANG_NCOEF];
+    bessel_coefs(c->kappa, n, coef);
+    for (int k = 1; k <= n; k++)
+        coef[k] *= c->bn[k];
+    c->coef = coef;
+    c->ncoef = n + 1;
+    double scale = TWO_PI * slref_i0e(c->kappa);
+    double w = c->kappa > 0.0 ? 1.0 / sqrt(c->kappa) : 10.0;
+    w = sqrt(w * w + s * s);
+    for (int p = 0; p < 3; p++) {
+        double lm = slref_chiang_log_mp(m, p, ti, c->theta_o);
+        double mp = lm > -700.0 ? exp(lm) : 0.0;
+        if (!(mp * gth > 1e-300)) continue;
+        c->p = p;
+        size_t np;
+        double *pts = slref_chiang_gamma_points(m, p, c->theta_o, c->phi_o - c->phi_j, w, &np);
+        double v = slref_chiang_integrate_pts(inner_chiang, c, pts, np, INNER_REL, 1e-13 * scale);
+        free(pts);
+        out[p] = gth * cti * mp * v;
+    }
+    double lm = slref_chiang_log_mp(m, 3, ti, c->theta_o);
+    if (lm > -700.0) out[3] = gth * cti * exp(lm) * c->e_rest * slref_i0e(c->kappa);
+    c->coef = NULL;
+}
+
 /* Outer integrand at theta_i: every output but the total. */
 static void outer(double ti, void *vc, double *out) {
     srbf_ctx c = *(const srbf_ctx *)vc;
@@ -269,6 +340,10 @@ static void outer(double ti, void *vc, double *out) {
     c.theta_i = ti;
     c.theta_d = 0.5 * (c.theta_o - ti);
     c.kappa = 2.0 * cti * c.cos_tj * c.inv_l2;
+    if (m->model == SL_MODEL_CHIANG) {
+        outer_chiang(&c, ti, gth, cti, out);
+        return;
+    }
     if (m->model == SL_MODEL_DEON) {
         int no = m->orders;
         double coef[3][1200];
@@ -328,8 +403,8 @@ void slref_srbf(const sl_material *m, int ch, double theta_o, double phi_o, doub
     memset(&c, 0, sizeof c);
     c.m = m;
     c.ch = ch;
-    int deon = m->model == SL_MODEL_DEON;
-    c.nout = deon ? m->orders + 3 : 4;
+    int deon = m->model == SL_MODEL_DEON, chiang = m->model == SL_MODEL_CHIANG;
+    c.nout = deon ? m->orders + 3 : chiang ? 5 : 4;
     c.theta_o = theta_o;
     c.phi_o = phi_o;
     c.theta_j = theta_j;
@@ -338,11 +413,31 @@ void slref_srbf(const sl_material *m, int ch, double theta_o, double phi_o, doub
     c.cos_tj = fmax(cos(theta_j), 0.0);
     c.inv_l2 = 1.0 / (lambda * lambda);
     int nm = c.nout - 1;
-    double pts[128];
+    double pts[192]; /* G_th 11 + chiang 4 lobes x 33 */
     size_t n = 0;
     /* G_th: exp(-(theta_i - theta_j)^2 / lambda^2) near its centre. */
     n = peak_points(theta_j, lambda, pts, n);
-    for (int t = 0; t < 3; t++) {
+    double *bn = NULL;
+    if (chiang) {
+        /* b_n up to the most terms any theta_i needs (kappa <= 2 cos theta_j / lambda^2) */
+        c.nbn = chiang_nterms(2.0 * c.cos_tj * c.inv_l2, m->logistic_s) + 1;
+        bn = malloc((size_t)c.nbn * sizeof *bn);
+        for (int k = 0; k < c.nbn; k++)
+            bn[k] = slref_trimmed_logistic_fourier(m->logistic_s, k);
+        c.bn = bn;
+        c.e_rest = slref_chiang_energy(m, ch, 3, theta_o);
+        for (int p = 0; p < 4; p++) {
+            /* M_p's cone at -theta_o', mirrored at a pole (M depends on sin, |cos| only) */
+            double w = sqrt(slref_chiang_v(m, p));
+            double c0 = -slref_chiang_theta_o_lobe(m, p, theta_o);
+            if (c0 > HALF_PI) c0 = PI - c0;
+            if (c0 < -HALF_PI) c0 = -PI - c0;
+            n = peak_points(c0, w, pts, n);
+            n = peak_points(-HALF_PI, w, pts, n);
+            n = peak_points(HALF_PI, w, pts, n);
+        }
+    }
+    for (int t = 0; t < 3 && !chiang; t++) {
         if (deon) {
             n = peak_points(-(theta_o - 2.0 * m->alpha[t]), m->beta[t], pts, n);
             n = peak_points(-HALF_PI, m->beta[t], pts, n); /* grazing boundary layers */
@@ -358,10 +453,12 @@ void slref_srbf(const sl_material *m, int ch, double theta_o, double phi_o, doub
         tol[k] = 1e-10 * lobe;
     if (nm < 1) {
         free(tol);
+        free(bn);
         return;
     }
     slq_integrate_vec(outer, &c, nm, -HALF_PI, HALF_PI, pts, n, OUTER_REL, tol, 600, out);
     free(tol);
+    free(bn);
     double total = 0.0;
     for (int k = 0; k < nm; k++) {
         if (!isfinite(out[k]) || out[k] < 0.0) out[k] = out[k] > 0.0 ? out[k] : 0.0;

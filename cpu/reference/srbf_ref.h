@@ -14,7 +14,7 @@
 #include "scene/material.h"
 
 /* out receives sl_eval_num_outputs(SL_EVAL_SRBF, m) values: marschner I_R, I_TT, I_TRT, I;
- * deon I_0..I_orders, I_rest, I. Angles in the fiber frame (numerics.md sec. 1), lambda > 0,
+ * deon I_0..I_orders, I_rest, I; chiang I_0, I_1, I_2, I_rest, I. Angles in the fiber frame (numerics.md sec. 1), lambda > 0,
  * colour channel ch (sigma_a[ch]). Never NaN/Inf for inputs in range. */
 void slref_srbf(const sl_material *m, int ch, double theta_o, double phi_o, double theta_j,
                 double phi_j, double lambda, double *out);

@@ -25,7 +25,7 @@ enum { SL_FRESNEL_EXACT = 0, SL_FRESNEL_SCHLICK = 1 };
 
 /* The Principled Hair (Chiang 2016, Blender/Cycles) parameters of model chiang as the user gave
  * them (numerics.md sec. 2); sl_material_from_json derives the model's quantities from them into
- * sl_material (docs/models.md): v_p = beta[p]^2, the cuticle shifts in alpha[] (d'Eon form:
+ * sl_material (docs/numerics-chiang.md): v_p = beta[p]^2, the cuticle shifts in alpha[] (d'Eon form:
  * theta_o - 2 alpha[p]), logistic_s, and sigma_a unless it was given directly. */
 typedef struct sl_chiang {
     double melanin;          /* 0..1 */

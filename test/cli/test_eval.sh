@@ -126,7 +126,7 @@ mat_err orders_frac '{"model": "deon", "orders": 3.5}' "orders: must be an integ
 mat_err unknown_key '{"etta": 1.5}' "etta: unknown key"
 mat_err both_sigma '{"sigma_a": 1, "melanin": {"eumelanin": 1}}' "melanin: cannot be given together with sigma_a"
 mat_err schlick_deon '{"model": "deon", "fresnel": "schlick"}' "fresnel: \"schlick\" is not allowed with model \"deon\""
-mat_err model '{"model": "kajiya"}' "model: expected \"marschner\" or \"deon\""
+mat_err model '{"model": "kajiya"}' "model: expected \"marschner\", \"deon\" or \"chiang\""
 mat_err wrong_type '{"eta": "1.5"}' "eta: expected a number"
 mat_err inf '{"eta": 1e999}' "eta: must be a finite number"
 mat_err melanin_key '{"melanin": {"eumelanin": 1, "red": 2}}' "melanin.red: unknown key"

@@ -117,7 +117,8 @@ TEST(matjson_errors) {
     expect_fail("{\"orders\": 257}",
                 "mat.json: orders: must be at most 256 (the float backends allow at most 32; the "
                 "orders above are still counted, in f_rest)");
-    expect_fail("{\"model\": \"kajiya\"}", "mat.json: model: expected \"marschner\" or \"deon\"");
+    expect_fail("{\"model\": \"kajiya\"}",
+                "mat.json: model: expected \"marschner\", \"deon\" or \"chiang\"");
     expect_fail("{\"fresnel\": 1}", "mat.json: fresnel: expected \"exact\" or \"schlick\"");
     expect_fail("{\"model\": \"deon\", \"fresnel\": \"schlick\"}",
                 "mat.json: fresnel: \"schlick\" is not allowed with model \"deon\" (d'Eon always "
@@ -189,4 +190,115 @@ TEST(matjson_to_fiber) {
     CHECK(fp.caustic_width == (float)(15 * DEG) && fp.eccentricity == 1.0f);
     sl_material_to_fiber(&m, 1, &fp);
     CHECK(fp.sigma_a == 0.5f);
+}
+
+/* Cycles' Principled Hair mappings (numerics.md sec. 3), values computed by hand:
+ *  melanin 0.5, redness 0.3: q = -ln(1 - 0.5) = 0.693147181, eumelanin q 0.7 = 0.485203026,
+ *  pheomelanin q 0.3 = 0.207944154, sigma_a = eu (0.506, 0.841, 1.653) + pheo (0.343, 0.733,
+ *  1.924) = (0.245512731 + 0.071324845, 0.408055745 + 0.152423065, 0.802040603 + 0.400084552)
+ *  = (0.316837576, 0.560478810, 1.202125155);
+ *  a tint of 0.5 (red) at radial roughness 0.3: 5.969 - 0.215 (0.3) + 2.532 (0.09) - 10.73 (0.027)
+ *  + 5.574 (0.0081) + 0.245 (0.00243) = 5.88841475, (ln 0.5 / 5.88841475)^2 = 0.0138565189;
+ *  roughness 0.3: 0.726 (0.3) + 0.812 (0.09) + 3.7 (0.3^20 = 3.49e-11) = 0.290880000129,
+ *  v = 0.0846111745 (TT v/4 = 0.0211527936, TRT 4v = 0.338444698);
+ *  radial roughness 0.3: sqrt(pi/8) (0.265 (0.3) + 1.194 (0.09) + 5.372 (0.3^22 = 3.1e-12))
+ *  = 0.626657069 (0.18696) = 0.117159806;
+ *  coat 0.9: R's roughness 0.3 (1 - 0.9) = 0.03: (0.0217800 + 0.000730800)^2 = 0.000506736;
+ *  melanin 1 is clamped: q = -ln(1e-4) = 9.21034037. */
+TEST(matjson_chiang_mappings) {
+    sl_chiang c;
+    memset(&c, 0, sizeof c);
+    c.melanin = 0.5;
+    c.melanin_redness = 0.3;
+    c.tint[0] = c.tint[1] = c.tint[2] = 1.0;
+    c.radial_roughness = 0.3;
+    double sa[3];
+    sl_chiang_sigma_a_rgb(&c, sa);
+    CHECK_NEAR(sa[0], 0.316837576, 1e-9);
+    CHECK_NEAR(sa[1], 0.560478810, 1e-9);
+    CHECK_NEAR(sa[2], 1.202125155, 1e-9);
+    c.tint[0] = 0.5;
+    sl_chiang_sigma_a_rgb(&c, sa);
+    CHECK_NEAR(sa[0], 0.316837576 + 0.0138565189, 1e-9);
+    CHECK_NEAR(sa[1], 0.560478810, 1e-9);
+    c.tint[0] = 1.0;
+    c.melanin = 1.0;
+    c.melanin_redness = 0.0;
+    sl_chiang_sigma_a_rgb(&c, sa);
+    CHECK_NEAR(sa[0], 9.21034037 * 0.506, 1e-7);
+    CHECK_NEAR(sl_chiang_variance(0.3), 0.0846111745, 1e-10);
+    CHECK_NEAR(sl_chiang_variance(0.03), 0.000506736, 1e-9);
+    CHECK_NEAR(sl_chiang_logistic_scale(0.3), 0.117159806, 1e-9);
+    /* radial roughness 1: sqrt(pi/8) (0.265 + 1.194 + 5.372) = 0.626657069 (6.831) = 4.28069444 */
+    CHECK_NEAR(sl_chiang_logistic_scale(1.0), 4.28069444, 1e-8);
+}
+
+/* The derived fields of a parsed chiang material: lobes in d'Eon form (theta_o - 2 alpha[p]:
+ * R shifted by -2 offset, TT by +offset, TRT by +4 offset), v_p = beta[p]^2, s, orders 2,
+ * sigma_a from melanin (rgb) unless given. */
+TEST(matjson_chiang_derived) {
+    sl_material m;
+    sl_err e = {{0}};
+    CHECK_MSG(parse("{\"model\": \"chiang\", \"melanin\": 0.5, \"melanin_redness\": 0.3, "
+                    "\"coat\": 0.9, \"offset_deg\": -5}",
+                    &m, &e) == 0,
+              "%s", e.msg);
+    CHECK(m.model == SL_MODEL_CHIANG && m.orders == 2 && m.sigma_a_rgb);
+    CHECK(m.fresnel == SL_FRESNEL_EXACT && m.eta == 1.55);
+    CHECK_NEAR(m.alpha[0], -5 * DEG, 1e-15);
+    CHECK_NEAR(m.alpha[1], 2.5 * DEG, 1e-15);
+    CHECK_NEAR(m.alpha[2], 10 * DEG, 1e-15);
+    CHECK_NEAR(m.beta[0] * m.beta[0], 0.000506736, 1e-9);
+    CHECK_NEAR(m.beta[1] * m.beta[1], 0.0211527936, 1e-10);
+    CHECK_NEAR(m.beta[2] * m.beta[2], 0.338444698, 1e-9);
+    CHECK_NEAR(m.logistic_s, 0.117159806, 1e-9);
+    CHECK_NEAR(m.sigma_a[2], 1.202125155, 1e-9);
+    /* defaults: melanin 0.8, redness 1 (pheomelanin only: q = ln 5 = 1.60943791), offset 2 deg */
+    CHECK(parse("{\"model\": \"chiang\"}", &m, &e) == 0);
+    CHECK_NEAR(m.sigma_a[0], 1.60943791 * 0.343, 1e-8);
+    CHECK_NEAR(m.alpha[0], 2 * DEG, 1e-15);
+    CHECK(parse("{\"model\": \"chiang\", \"sigma_a\": 0.7}", &m, &e) == 0);
+    CHECK(!m.sigma_a_rgb && m.sigma_a[0] == 0.7 && m.sigma_a[2] == 0.7);
+    sl_fiber_params fp;
+    sl_material_to_fiber(&m, 0, &fp);
+    CHECK(fp.model == 2 && fp.orders == 2);
+    CHECK_NEAR(fp.logistic_s, 0.117159806, 1e-7);
+}
+
+TEST(matjson_chiang_errors) {
+    expect_fail("{\"model\": \"chiang\", \"melanin_red\": 1}",
+                "mat.json: melanin_red: unknown key");
+    expect_fail("{\"model\": \"chiang\", \"melanin\": 1.5}",
+                "mat.json: melanin: must be in [0, 1]");
+    expect_fail("{\"model\": \"chiang\", \"melanin_redness\": -0.1}",
+                "mat.json: melanin_redness: must be in [0, 1]");
+    expect_fail("{\"model\": \"chiang\", \"roughness\": 0}",
+                "mat.json: roughness: must be in (0, 1]");
+    expect_fail("{\"model\": \"chiang\", \"radial_roughness\": 1.2}",
+                "mat.json: radial_roughness: must be in (0, 1]");
+    expect_fail("{\"model\": \"chiang\", \"coat\": 1}", "mat.json: coat: must be in [0, 1)");
+    expect_fail("{\"model\": \"chiang\", \"offset_deg\": 50}",
+                "mat.json: offset_deg: must be in [-45, 45]");
+    expect_fail("{\"model\": \"chiang\", \"tint\": [1, 0, 1]}",
+                "mat.json: tint[1]: must be in (0, 1]");
+    expect_fail("{\"model\": \"chiang\", \"tint\": [1, 1]}",
+                "mat.json: tint: expected an array of 3 numbers [r, g, b] in (0, 1]");
+    expect_fail("{\"model\": \"chiang\", \"roughness\": \"a\"}",
+                "mat.json: roughness: expected a number");
+    expect_fail("{\"model\": \"chiang\", \"eta\": 1}", "mat.json: eta: must be > 1");
+    expect_fail("{\"model\": \"chiang\", \"sigma_a\": 1, \"melanin\": 0.5}",
+                "mat.json: melanin: cannot be given together with sigma_a (choose one)");
+    expect_fail("{\"model\": \"chiang\", \"sigma_a\": 1, \"tint\": [1, 1, 1]}",
+                "mat.json: tint: cannot be given together with sigma_a (choose one)");
+    expect_fail("{\"model\": \"chiang\", \"melanin\": {\"eumelanin\": 1}}",
+                "mat.json: melanin: expected a number in [0, 1] with model \"chiang\" (the "
+                "eumelanin / pheomelanin object is for marschner and deon)");
+    expect_fail("{\"model\": \"chiang\", \"alpha_R_deg\": 3}",
+                "mat.json: alpha_R_deg: not a key of model \"chiang\" (its keys: melanin, "
+                "melanin_redness, tint, roughness, radial_roughness, coat, offset_deg, eta, "
+                "sigma_a)");
+    expect_fail("{\"model\": \"deon\", \"coat\": 0.5}",
+                "mat.json: coat: is a key of model \"chiang\" only");
+    expect_fail("{\"radial_roughness\": 0.5}",
+                "mat.json: radial_roughness: is a key of model \"chiang\" only");
 }

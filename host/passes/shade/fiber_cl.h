@@ -10,7 +10,8 @@
 #include "cl/clrt.h"
 #include "fiber_params.h"
 
-/* in: 4 floats per row; out: slc_scatter_width(fp) floats per row (4, or orders + 3 for deon). */
+/* in: 4 floats per row; out: slc_scatter_width(fp) floats per row (4, orders + 3 for deon, 5
+ * for chiang). */
 int slcl_scatter_batch(sl_cl *cl, const sl_fiber_params *fp, size_t n, const float *in, float *out,
                        sl_err *e);
 /* in: v, theta_i, theta_o; out: M, log_M. */

@@ -23,6 +23,8 @@ static const sl_kernel_check checks[] = {
      slchk_ms_response, 0},
     {"dual", "dual-scattering material table nodes, dual.cl", slchk_dual_table, 0},
     {"srbf", "SRBF response, --method fast and xu (m = 4), srbf.cl", slchk_srbf, 0},
+    {"fiber_chiang", "fiber function of model chiang (eval scatter, furnace), fiber.cl",
+     slchk_fiber_chiang, 1},
     {"kbuffer", "view-pass K-buffer fill, view.cl built with -DSL_KB_K=K (bit-identical)",
      slchk_kbuffer, 1},
     {"kbuffer_generic", "the same, generic build (K a kernel argument), for the -D gain",
@@ -253,6 +255,11 @@ static int extreme_materials(sl_cl *cl, FILE *out) {
         "{\"eccentricity\": 2, \"fresnel\": \"schlick\"}",
         "{\"model\": \"deon\", \"orders\": 2, \"beta_R_deg\": 0.5}",
         "{\"model\": \"deon\", \"orders\": 32, \"beta_R_deg\": 60, \"sigma_a\": 0}",
+        "{\"model\": \"chiang\"}",
+        "{\"model\": \"chiang\", \"radial_roughness\": 0.001, \"roughness\": 0.001, \"coat\": 0.99}",
+        "{\"model\": \"chiang\", \"radial_roughness\": 1, \"roughness\": 1, \"offset_deg\": 45, "
+        "\"eta\": 1.0001, \"sigma_a\": 0}",
+        "{\"model\": \"chiang\", \"eta\": 10, \"sigma_a\": 1000, \"offset_deg\": -45}",
     };
     /* Grazing and axis-aligned directions; 1.5707963 is the float just below pi/2. */
     static const double th[] = {-1.5707963, -1, 0, 0.5, 1.5707963};

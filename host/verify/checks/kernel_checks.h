@@ -81,6 +81,10 @@ int slchk_dual_table(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_r
                      sl_err *e);
 /* srbf_check.c: srbf.cl vs the C twin (o->size: number of lobes, default 4096). */
 int slchk_srbf(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
+/* fiber_check.c: fiber.cl's scatter and furnace for model chiang vs the C twin (o->size: scatter
+ * rows per material, default 2048; o->extreme: extreme materials). */
+int slchk_fiber_chiang(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r,
+                       sl_err *e);
 /* view_check.c: the -DSL_KB_K build and the generic one against slc_kbuffer_build, bit-exact,
  * on typical or (o->extreme) extreme fragments. */
 int slchk_kbuffer(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);

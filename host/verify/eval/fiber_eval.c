@@ -3,6 +3,7 @@
  * fiber_eval.h and numerics.md sec. 5. */
 #include "verify/eval/fiber_eval.h"
 
+#include "chiang_ref.h"
 #include "deon_ref.h"
 #include "dual_c.h"
 #include "passes/volume/dual_cl.h"
@@ -141,7 +142,8 @@ const char *sl_eval_check_input(sl_eval_range range, double *v) {
 }
 
 size_t sl_eval_num_outputs(sl_eval_quantity q, const sl_material *m) {
-    int deon = m && m->model != SL_MODEL_MARSCHNER; /* chiang: the d'Eon layout, orders 2 */
+    /* chiang has d'Eon's layout with orders = 2: f_0, f_1, f_2, f_rest, f */
+    int deon = m && (m->model == SL_MODEL_DEON || m->model == SL_MODEL_CHIANG);
     switch (q) {
     case SL_EVAL_SCATTER:
     case SL_EVAL_SRBF:
@@ -175,7 +177,7 @@ void sl_eval_output_name(sl_eval_quantity q, const sl_material *m, int ch, size_
     switch (q) {
     case SL_EVAL_SCATTER:
     case SL_EVAL_SRBF:
-        if (m->model != SL_MODEL_MARSCHNER) {
+        if (m->model != SL_MODEL_MARSCHNER) { /* deon and chiang: per order, rest, total */
             if (k + 2 < nout)
                 snprintf(base, sizeof base, "%s_%zu", prefix, k);
             else
@@ -234,7 +236,9 @@ static int run_reference(sl_eval_quantity q, const sl_material *m, int ch, size_
         double *y = out + r * nout;
         switch (q) {
         case SL_EVAL_SCATTER:
-            if (m->model == SL_MODEL_DEON)
+            if (m->model == SL_MODEL_CHIANG)
+                slref_chiang_scatter(m, ch, x[0], x[1], x[2], x[3], y);
+            else if (m->model == SL_MODEL_DEON)
                 slref_deon_scatter(m, ch, x[0], x[1], x[2], x[3], y);
             else
                 slref_marschner_scatter(m, ch, x[0], x[1], x[2], x[3], y);
@@ -371,10 +375,11 @@ int sl_eval_run_method(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt,
     if (quantities[q].uses_material && !m)
         return sl_fail(e, "eval: %s needs a material", quantities[q].name);
     if (q == SL_EVAL_MS_MATERIAL && m->model != SL_MODEL_MARSCHNER)
-        return sl_fail(e, "eval: ms-material: model deon is not supported yet (marschner only)");
+        return sl_fail(e, "eval: ms-material: model %s is not supported yet (marschner only)",
+                       m->model == SL_MODEL_DEON ? "deon" : "chiang");
     if (sl_eval_check_backend(q, b, m, NULL, e)) return -1;
     if (n == 0) return 0;
     if (b == SL_EVAL_REFERENCE) return run_reference(q, m, ch, n, in, out, e);
-    return run_float(q, b, mt, srbf_segments, cl, quantities[q].uses_material ? m : NULL, ch, n,
-                     in, out, e);
+    return run_float(q, b, mt, srbf_segments, cl, quantities[q].uses_material ? m : NULL, ch, n, in,
+                     out, e);
 }
