@@ -29,12 +29,21 @@
 /* The logistic of unit scale as w N(0, S1^2) + (1 - w) N(0, S2^2): a sup-norm fit on the real
  * line, max error 0.30 % of the logistic's peak (a single Gaussian of the same variance is 12 %
  * off at the peak). */
+#ifndef SL_SRBF_CH_MIX_W /* overridable for the measurements of docs/srbf.md */
 #define SL_SRBF_CH_MIX_W 0.4449f
 #define SL_SRBF_CH_MIX_S1 1.21797f
 #define SL_SRBF_CH_MIX_S2 2.12348f
+#endif
 /* The wide branch is taken when the last harmonic of the kernel is below this (truncation
  * error ~ its size: the harmonics beyond decay faster). */
+#ifndef SL_SRBF_CH_EPS
 #define SL_SRBF_CH_EPS 1e-4f
+#endif
+/* 1: the narrow branch adds R's and TT's kernel -> 0 interpolation errors back (0: d'Eon's
+ * narrow rule alone, for the measurements of docs/srbf.md). */
+#ifndef SL_SRBF_CH_CORRECT
+#define SL_SRBF_CH_CORRECT 1
+#endif
 
 #if SL_OPENCL
 static __constant float sl_srbf_ch_c[SL_SRBF_CH_NODES] = SL_SRBF_CH_C;
@@ -60,6 +69,7 @@ typedef struct sl_srbf_chiang_row {
     float A[SL_SRBF_CH_MAXC][2][SL_SRBF_W_NODES]; /* TT, TRT, narrow: A_p at the 4 nodes */
     float c[SL_SRBF_CH_MAXC][2][SL_SRBF_CH_NHV];  /* TT, TRT, wide: cos(n phi) d_n B_n */
     float rest[SL_SRBF_CH_MAXC];                  /* N'_3 / z = E_3 / (2 pi) */
+    float tt_err[SL_SRBF_CH_MAXC]; /* TT, narrow: the 4 nodes' interpolation error at phi */
 } sl_srbf_chiang_row;
 
 /* d_n(s), n = 0..SL_SRBF_CH_NH, from the table (linear in log s); below its range the
@@ -159,6 +169,39 @@ SL_INLINE void sl_srbf_chiang_row_init(const sl_fiber_params *fp, SL_GLOBAL cons
         }
         r->r_err = 0.25f * c * (sl_fresnel_exact(eta, ci) - P - li);
     }
+    /* TT at phi in the kernel -> 0 limit: Phi(1, h) = pi + 2 asin(x sin g) - 2 g falls
+     * monotonically in g = asin h (x < 1), so phi has at most one root; there N_1 = A_1 cos g /
+     * (2 |dPhi/dg|), where the narrow branch has the 4 nodes' interpolant of A_1 in place of A_1:
+     * its error, added back there (the 4 nodes cannot follow (1 - f)^2 near the band's grazing
+     * edge: up to 16 % of I_1 on the stiffest rows) */
+    for (int ch = 0; ch < nch; ch++)
+        r->tt_err[ch] = 0.0f;
+    {
+        float t = phi >= 0.0f ? phi : phi + 2.0f * SL_PI_F, lo = 2.0f * asin(x);
+        if (t > lo && t < 2.0f * SL_PI_F - lo && x < 0.999f) {
+            float g = 0.5f * (SL_PI_F - t), fd = -2.0f; /* the root at x = 0 */
+            for (int it = 0; it < 6; it++) {
+                float sg = sin(g), cg = cos(g), xs = x * sg;
+                float f = SL_PI_F + 2.0f * asin(xs) - 2.0f * g - t;
+                fd = 2.0f * x * cg / sqrt(sl_maxf(1.0f - xs * xs, 1e-12f)) - 2.0f;
+                g = sl_clampf(g - f / fd, -0.5f * SL_PI_F, 0.5f * SL_PI_F);
+            }
+            float c = cos(g), sn = fabs(sin(g)), F = sl_fresnel_exact(eta, co * c);
+            float L[SL_SRBF_W_NODES];
+            for (int i = 0; i < SL_SRBF_W_NODES; i++) {
+                L[i] = 1.0f;
+                for (int j = 0; j < SL_SRBF_W_NODES; j++)
+                    if (j != i) L[i] *= (c - sl_srbf_w_c[j]) / (sl_srbf_w_c[i] - sl_srbf_w_c[j]);
+            }
+            float cgt = sl_srbf_chiang_cgt(sn, x), wt = c / (2.0f * fabs(fd));
+            for (int ch = 0; ch < nch; ch++) {
+                float T = exp(-(sig ? sig[ch] : fp->sigma_a) * ict * cgt), li = 0.0f;
+                for (int i = 0; i < SL_SRBF_W_NODES; i++)
+                    li += L[i] * r->A[ch][0][i];
+                r->tt_err[ch] = wt * ((1.0f - F) * (1.0f - F) * T - li);
+            }
+        }
+    }
     /* the wide branch's 8 nodes; the rest term's energy sum_{p >= 3} A_p = A_2 T f / (1 - T f)
      * by them (h_R[0][i] = the nodes' uniform-azimuth weights omega_i / (2 pi)) */
     float F8[SL_SRBF_CH_NODES], A8[SL_SRBF_CH_MAXC][2][SL_SRBF_CH_NODES];
@@ -255,7 +298,10 @@ SL_INLINE void sl_srbf_chiang_az(const sl_srbf_chiang_row *r, SL_GLOBAL const fl
                 v[ch] += wk * q;
             }
         }
-        if (g == 0) v[0] += r->r_err;
+        if (g == 0 && SL_SRBF_CH_CORRECT) v[0] += r->r_err;
+        if (g == 1 && SL_SRBF_CH_CORRECT)
+            for (int ch = 0; ch < nc; ch++)
+                v[ch] += r->tt_err[ch];
     }
     for (int ch = 0; ch < nc; ch++)
         v[ch] = sl_maxf(v[ch], 0.0f);
@@ -310,7 +356,8 @@ SL_INLINE void sl_srbf_chiang_rgb(const sl_fiber_params *fp, SL_GLOBAL const flo
 SL_INLINE void sl_srbf_chiang(const sl_fiber_params *fp, SL_GLOBAL const float *C,
                               SL_GLOBAL const float *H, SL_GLOBAL const float *D, float theta_o,
                               float phi_o, float theta_j, float phi_j, float lambda, float *out) {
-    sl_srbf_chiang_rgb(fp, C, H, D, theta_o, phi_o, theta_j, phi_j, lambda, 1, (const float *)0, out);
+    sl_srbf_chiang_rgb(fp, C, H, D, theta_o, phi_o, theta_j, phi_j, lambda, 1, (const float *)0,
+                       out);
 }
 
 #endif
