@@ -69,6 +69,7 @@ typedef struct sl_srbf_chiang_row {
     float A[SL_SRBF_CH_MAXC][2][SL_SRBF_W_NODES]; /* TT, TRT, narrow: A_p at the 4 nodes */
     float c[SL_SRBF_CH_MAXC][2][SL_SRBF_CH_NHV];  /* TT, TRT, wide: cos(n phi) d_n B_n */
     float rest[SL_SRBF_CH_MAXC];                  /* N'_3 / z = E_3 / (2 pi) */
+    float emax[3]; /* per group the largest energy over the channels, E_p / (2 pi) (R: 1 / 2pi) */
     float tt_err[SL_SRBF_CH_MAXC]; /* TT, narrow: the 4 nodes' interpolation error at phi */
 } sl_srbf_chiang_row;
 
@@ -205,8 +206,9 @@ SL_INLINE void sl_srbf_chiang_row_init(const sl_fiber_params *fp, SL_GLOBAL cons
     /* the wide branch's 8 nodes; the rest term's energy sum_{p >= 3} A_p = A_2 T f / (1 - T f)
      * by them (h_R[0][i] = the nodes' uniform-azimuth weights omega_i / (2 pi)) */
     float F8[SL_SRBF_CH_NODES], A8[SL_SRBF_CH_MAXC][2][SL_SRBF_CH_NODES];
+    float e8[SL_SRBF_CH_MAXC][2];
     for (int ch = 0; ch < nch; ch++)
-        r->rest[ch] = 0.0f;
+        r->rest[ch] = e8[ch][0] = e8[ch][1] = 0.0f;
     for (int i = 0; i < SL_SRBF_CH_NODES; i++) {
         float F = sl_fresnel_exact(eta, co * sl_srbf_ch_c[i]);
         float cg = sl_srbf_chiang_cgt(sl_srbf_ch_s[i], x);
@@ -216,9 +218,16 @@ SL_INLINE void sl_srbf_chiang_row_init(const sl_fiber_params *fp, SL_GLOBAL cons
             float A1 = (1.0f - F) * (1.0f - F) * T, A2 = A1 * T * F, den = 1.0f - T * F;
             A8[ch][0][i] = A1;
             A8[ch][1][i] = A2;
+            e8[ch][0] += A1 * D[SL_SRBF_CH_R_OFF + i];
+            e8[ch][1] += A2 * D[SL_SRBF_CH_R_OFF + i];
             if (den > 0.0f) r->rest[ch] += A2 * T * F / den * D[SL_SRBF_CH_R_OFF + i];
         }
     }
+    r->emax[0] = 1.0f / (2.0f * SL_PI_F);
+    r->emax[1] = r->emax[2] = 0.0f;
+    for (int ch = 0; ch < nch; ch++)
+        for (int g = 0; g < 2; g++)
+            r->emax[g + 1] = sl_maxf(r->emax[g + 1], e8[ch][g]);
     float d[SL_SRBF_CH_NHV];
     sl_srbf_chiang_detector(D, r->s, d);
     r->d_nh = d[SL_SRBF_CH_NH];
@@ -324,7 +333,16 @@ SL_INLINE void sl_srbf_chiang_rgb(const sl_fiber_params *fp, SL_GLOBAL const flo
     /* the trimmed logistic's peak 1 / (4 s tanh(pi / 2s)) bounds every N_p / E_p */
     float s = sl_maxf(fp->logistic_s, 1e-30f);
     float dmax = 0.25f / (s * tanh(0.5f * SL_PI_F / s));
+    float rest = 0.0f;
+    for (int ch = 0; ch < nch; ch++)
+        rest = sl_maxf(rest, r.rest[ch]);
     for (int g = 0; g < 4; g++) {
+        /* A group whose contribution cannot reach 1e-4 of the error floor 0.03 int G of
+         * numerics.md sec. 5 is skipped: N'_p / z <= max N_p <= E_p dmax (R: <= 1/4), and the
+         * longitudinal weights sum to <= 2 pi int cos ti G_th M_p <= 2 pi (M_p is normalised,
+         * G_th <= 1); dark hair skips TT, TRT and the rest term before any lobe work */
+        float bound = g == 0 ? 0.25f : (g < 3 ? 2.0f * SL_PI_F * r.emax[g] * dmax : rest);
+        if (!(4.0f * SL_PI_F * bound > 1e-4f * floor_)) continue;
         int lobe = g < 3 ? g : 2; /* the rest term: TRT's variance, theta_o unshifted */
         float v = fp->beta[lobe] * fp->beta[lobe];
         float tho = g < 3 ? theta_o - 2.0f * fp->alpha[g] : theta_o;
@@ -335,9 +353,7 @@ SL_INLINE void sl_srbf_chiang_rgb(const sl_fiber_params *fp, SL_GLOBAL const flo
                 out[5 * ch + 3] += L.wsum * r.rest[ch];
             continue;
         }
-        /* skip as the d'Eon path does (sum_p E_p <= 1 times the detector's peak; R <= 1/4) */
-        float bound = g == 0 ? 0.25f : dmax;
-        if (!(L.wsum * bound > 1e-4f * floor_)) continue;
+        if (!(L.wsum * bound > 1e-4f * floor_)) continue; /* the same with the actual weights */
         float fz[SL_SRBF_CH_MAXC][3][SL_DEON_MAX_ORDERS + 1];
         for (int j = 0; j < 3; j++) {
             float kappa = 2.0f * cos(sl_srbf_deon_lobe_ti(&L, j)) * cos_tj * inv_l2, a[3];
