@@ -129,6 +129,20 @@ double slref_deon_attenuation_rest(const sl_material *m, int ch, int n, double t
     return A_rest_of(&g, n, h);
 }
 
+void slref_deon_attenuations(const sl_material *m, int ch, int n, double theta_d, double h,
+                             double *A) {
+    deon_geom g;
+    geom_init(m, ch, theta_d, &g);
+    double f, T;
+    geom_fT(&g, h, &f, &T);
+    A[0] = f;
+    double a = (1.0 - f) * (1.0 - f) * T; /* A(1); A(p + 1) = A(p) f T */
+    for (int p = 1; p <= n; p++, a *= f * T)
+        A[p] = a;
+    double den = 1.0 - f * T; /* the rest: A(n + 1) / (1 - f T) */
+    A[n + 1] = den > 0.0 ? a / den : 0.0;
+}
+
 static double order_beta(const sl_material *m, int p) {
     return m->beta[p < 2 ? p : 2];
 }

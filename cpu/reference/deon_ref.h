@@ -26,6 +26,11 @@ double slref_deon_attenuation(const sl_material *m, int ch, int p, double theta_
 /* sum_{p > n} A(p, h) in closed form: (1-f)^2 f^n T^(n+1) / (1 - f T). */
 double slref_deon_attenuation_rest(const sl_material *m, int ch, int n, double theta_d, double h);
 
+/* A(p, h) for p = 0..n into A[0..n] and the rest sum_{p > n} A(p, h) into A[n + 1], with one
+ * Fresnel and transmittance evaluation (the path tracer's per-hit fiber, deon_hit.h). */
+void slref_deon_attenuations(const sl_material *m, int ch, int n, double theta_d, double h,
+                             double *A);
+
 /* N_p(phi) (d'Eon Eq. 10) with detector width beta = the model's beta for order p (p >= 3: TRT). */
 double slref_deon_np(const sl_material *m, int ch, int p, double theta_d, double phi);
 

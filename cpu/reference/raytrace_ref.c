@@ -14,6 +14,7 @@ struct slref_rt {
     uint32_t nprims;
     uint32_t *prim_strand, *prim_seg;
     float *prim_tan; /* 3 per prim */
+    float *prim_pr;  /* 5 per prim: first point, its radius, the second point's radius */
 };
 
 enum { RT_MAX_HITS = 1024 };
@@ -78,6 +79,7 @@ int slref_rt_build(const sl_hair *h, slref_rt **out, sl_err *e) {
     rt->prim_strand = sl_malloc((size_t)rt->nprims * sizeof(uint32_t));
     rt->prim_seg = sl_malloc((size_t)rt->nprims * sizeof(uint32_t));
     rt->prim_tan = sl_malloc((size_t)rt->nprims * 3 * sizeof(float));
+    rt->prim_pr = sl_malloc((size_t)rt->nprims * 5 * sizeof(float));
     RTCGeometry g = rtcNewGeometry(rt->dev, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
     float *vb = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
                                         4 * sizeof(float), h->num_points);
@@ -100,6 +102,10 @@ int slref_rt_build(const sl_hair *h, slref_rt **out, sl_err *e) {
             rt->prim_strand[p] = s;
             rt->prim_seg[p] = i - h->strand_first[s];
             sl_hair_tangent(h, s, rt->prim_seg[p], rt->prim_tan + 3 * p);
+            for (int k = 0; k < 3; k++)
+                rt->prim_pr[5 * p + k] = h->pos[3 * i + k];
+            rt->prim_pr[5 * p + 3] = h->radius ? h->radius[i] : h->default_radius;
+            rt->prim_pr[5 * p + 4] = h->radius ? h->radius[i + 1] : h->default_radius;
         }
     }
     rtcSetGeometryIntersectFilterFunction(g, filter);
@@ -127,6 +133,7 @@ void slref_rt_free(slref_rt *rt) {
     free(rt->prim_strand);
     free(rt->prim_seg);
     free(rt->prim_tan);
+    free(rt->prim_pr);
     free(rt);
 }
 
@@ -155,8 +162,13 @@ static void ray_init(struct RTCRay *r, const double o[3], const double d[3], dou
 
 int slref_rt_intersect(const slref_rt *rt, const double o[3], const double d[3], double tmax,
                        slref_hit *hit) {
+    return slref_rt_intersect_excl(rt, o, d, tmax, SLREF_RT_NONE, 0, hit);
+}
+
+int slref_rt_intersect_excl(const slref_rt *rt, const double o[3], const double d[3], double tmax,
+                            uint32_t own_strand, uint32_t own_seg, slref_hit *hit) {
     rt_ctx c;
-    ctx_init(&c, rt, SLREF_RT_NONE, 0, 0);
+    ctx_init(&c, rt, own_strand, own_seg, 0);
     struct RTCRayHit rh;
     ray_init(&rh.ray, o, d, tmax);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -235,4 +247,13 @@ void slref_rt_prim_info(const slref_rt *rt, uint32_t prim, uint32_t *strand, uin
     if (tangent)
         for (int k = 0; k < 3; k++)
             tangent[k] = rt->prim_tan[3 * prim + k];
+}
+
+void slref_rt_prim_axis(const slref_rt *rt, uint32_t prim, double t, double p0[3], double *radius) {
+    const float *q = rt->prim_pr + 5 * (size_t)prim;
+    for (int k = 0; k < 3; k++)
+        p0[k] = q[k];
+    if (t < 0) t = 0;
+    if (t > 1) t = 1;
+    *radius = q[3] + t * ((double)q[4] - q[3]);
 }

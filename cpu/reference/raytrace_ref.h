@@ -32,6 +32,12 @@ uint32_t slref_rt_num_prims(const slref_rt *rt);
 int slref_rt_intersect(const slref_rt *rt, const double o[3], const double d[3], double tmax,
                        slref_hit *hit);
 
+/* The closest hit along o + t d, t in (0, tmax), ignoring the segments of strand own_strand
+ * within 1 of own_seg (as slref_rt_occluded): a path's continuation ray leaves the surface of
+ * the fiber it scattered on, whose scattering (TT, TRT) the fiber function already holds. */
+int slref_rt_intersect_excl(const slref_rt *rt, const double o[3], const double d[3], double tmax,
+                            uint32_t own_strand, uint32_t own_seg, slref_hit *hit);
+
 /* 1 when o + t d (t > 0) meets a fiber. Hits on the segments of strand `own_strand` whose index
  * is within 1 of `own_seg` are ignored (a point on a fiber's surface is not shadowed by that
  * fiber: numerics.md sec. 7); own_strand = SLREF_RT_NONE ignores nothing. */
@@ -48,5 +54,9 @@ int slref_rt_crossings(const slref_rt *rt, const double o[3], const double d[3],
 /* The strand/segment of a primitive and the unit tangent of that segment (sl_hair_tangent). */
 void slref_rt_prim_info(const slref_rt *rt, uint32_t prim, uint32_t *strand, uint32_t *seg,
                         double tangent[3]);
+
+/* The axis of a primitive: its first point p0 (the segment runs p0 -> p0 + len tangent) and
+ * the fiber radius at curve parameter t in [0, 1] (linear between the two points' radii). */
+void slref_rt_prim_axis(const slref_rt *rt, uint32_t prim, double t, double p0[3], double *radius);
 
 #endif

@@ -33,7 +33,37 @@ void sl_warn(const char *fmt, ...) {
     va_end(ap);
 }
 
+static int g_quiet, g_status_shown;
+
+void sl_set_quiet(int quiet) {
+    g_quiet = quiet;
+}
+int sl_is_quiet(void) {
+    return g_quiet;
+}
+
+void sl_status(const char *fmt, ...) {
+    if (g_quiet || !isatty(2)) return;
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("\r", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputs("\033[K", stderr); /* erase the rest of a longer previous status */
+    fflush(stderr);
+    va_end(ap);
+    g_status_shown = 1;
+}
+
+void sl_status_clear(void) {
+    if (!g_status_shown) return;
+    fputs("\r\033[K", stderr);
+    fflush(stderr);
+    g_status_shown = 0;
+}
+
 void sl_note(const char *fmt, ...) {
+    if (g_quiet) return;
+    sl_status_clear();
     va_list ap;
     va_start(ap, fmt);
     fputs("strandlight: ", stderr);
@@ -158,6 +188,37 @@ void sl_temp_name(const char *path, char *tmp, size_t tmp_size) {
     snprintf(temp_ring[slot], sizeof temp_ring[slot], "%s", tmp);
 }
 
+int sl_output_precheck(const char *path, const char *what, sl_err *e) {
+    if (!path || !path[0]) return sl_fail(e, "%s: empty output path", what);
+    size_t n = strlen(path);
+    if (path[n - 1] == '/')
+        return sl_fail(e, "%s: %s: is a directory, expected a file", what, path);
+    struct stat st;
+    if (stat(path, &st) == 0) {
+        if (S_ISDIR(st.st_mode))
+            return sl_fail(e, "%s: %s: is a directory, expected a file", what, path);
+        if (!S_ISREG(st.st_mode))
+            return sl_fail(e, "%s: %s: exists and is not a regular file", what, path);
+    }
+    char dir[4096];
+    sl_dirname(path, dir, sizeof dir);
+    if (stat(dir, &st) == 0) {
+        if (!S_ISDIR(st.st_mode))
+            return sl_fail(e, "%s: %s: %s is not a directory", what, path, dir);
+        if (access(dir, W_OK | X_OK) != 0)
+            return sl_fail(e, "%s: %s: directory %s is not writable", what, path, dir);
+        return 0;
+    }
+    char up[4096];
+    sl_dirname(dir, up, sizeof up);
+    if (stat(up, &st) != 0 || !S_ISDIR(st.st_mode))
+        return sl_fail(e, "%s: %s: directory %s does not exist (only one missing level is created)",
+                       what, path, up);
+    if (access(up, W_OK | X_OK) != 0)
+        return sl_fail(e, "%s: %s: cannot create %s: %s is not writable", what, path, dir, up);
+    return 0;
+}
+
 int sl_make_parent_dirs(const char *path, sl_err *e) {
     char dir[4096];
     sl_dirname(path, dir, sizeof dir);
@@ -267,7 +328,8 @@ uint64_t sl_hash64(const void *data, size_t n, uint64_t seed) {
 void sl_progress_begin(sl_progress *p, const char *label) {
     p->label = label;
     p->start = p->last = sl_now();
-    p->active = isatty(2);
+    p->active = isatty(2) && !g_quiet;
+    if (p->active) sl_status_clear();
 }
 
 void sl_progress_update(sl_progress *p, double fraction) {
@@ -279,7 +341,8 @@ void sl_progress_update(sl_progress *p, double fraction) {
     if (fraction > 1) fraction = 1;
     int width = 30, fill = (int)(fraction * width + 0.5);
     char bar[64];
-    for (int i = 0; i < width; i++) bar[i] = i < fill ? '#' : '.';
+    for (int i = 0; i < width; i++)
+        bar[i] = i < fill ? '#' : '.';
     bar[width] = 0;
     double el = t - p->start, eta = fraction > 0.01 ? el * (1 - fraction) / fraction : 0;
     fprintf(stderr, "\r%s [%s] %5.1f%% %.1fs eta %.1fs ", p->label, bar, 100 * fraction, el, eta);

@@ -24,6 +24,14 @@ void sl_warn(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* Prints a one-line note to stderr ("strandlight: ..."), e.g. which device was picked. */
 void sl_note(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
+/* --quiet: notes, status lines and progress bars off (warnings and errors stay). */
+void sl_set_quiet(int quiet);
+int sl_is_quiet(void);
+/* A one-line status on a terminal ("\r... " overwritten by the next; nothing when stderr is not a
+ * terminal or quiet), e.g. the pass a long frame is in; sl_status_clear() erases it. */
+void sl_status(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+void sl_status_clear(void);
+
 /* Allocation that aborts with a message on out-of-memory (used for sizes already validated). */
 void *sl_malloc(size_t n);
 void *sl_calloc(size_t count, size_t size);
@@ -54,6 +62,12 @@ void sl_atomic_abort(sl_atomic_file *af);            /* closes and removes */
 /* For writers that open files themselves (OpenEXRCore): a unique temporary name beside path. */
 void sl_temp_name(const char *path, char *tmp, size_t tmp_size);
 /* Creates the parent directories of a file path (like mkdir -p on dirname). */
+/* Checks before any work that `path` can be written as a new or replaced regular file: not
+ * empty, not a directory (nor ending in '/'), an existing target a regular file, and its directory
+ * either existing and writable or one missing level below an existing writable directory (which
+ * sl_make_parent_dirs then creates; deeper missing trees are refused: a typo should not build
+ * directories anywhere). `what` names the option or key in the message. Returns 0 or -1. */
+int sl_output_precheck(const char *path, const char *what, sl_err *e);
 int sl_make_parent_dirs(const char *path, sl_err *e);
 
 /* Path helpers. Returns the directory part of path ("." if none) into out. */

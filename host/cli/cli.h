@@ -14,6 +14,8 @@ int cmd_sample(int argc, char **argv);
 int cmd_report(int argc, char **argv);
 int cmd_reference(int argc, char **argv);
 int cmd_view(int argc, char **argv);
+int cmd_export(int argc, char **argv);
+int cmd_compare(int argc, char **argv);
 
 /* True when argv[*i] is `name` (then *value = argv[*i+1], *i advanced) or `name=value`.
  * A missing value prints a usage error and sets *missing. */

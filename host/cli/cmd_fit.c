@@ -34,7 +34,21 @@ static void usage(FILE *fp) {
         "  --clamp-nonfinite       replace NaN/Inf pixels by 0 instead of failing\n"
         "  -v, --verbose           per-level iterations, errors and times on stderr\n"
         "  -q, --quiet             no summary line on stdout\n",
-        SL_LOBES_MAX);
+        SL_FIT_LOBES_MAX);
+}
+
+/* A lobe count for fit: 1..SL_FIT_LOBES_MAX, and above it a refusal that says why. */
+static int fit_lobes_arg(const char *opt, const char *v, long *out) {
+    if (cli_int("fit", opt, v, 1, 1000000000L, out)) return -1;
+    if (*out > SL_FIT_LOBES_MAX) {
+        cli_usage_error("fit",
+                        "%s %ld: at most %d (the fit's cost grows about as n^3: 256 lobes take "
+                        "~3 minutes on 2 cores, %d about 25; the frame also draws one shadow map "
+                        "per lobe)",
+                        opt, *out, SL_FIT_LOBES_MAX, SL_FIT_LOBES_MAX);
+        return -1;
+    }
+    return 0;
 }
 
 int cmd_fit(int argc, char **argv) {
@@ -42,7 +56,7 @@ int cmd_fit(int argc, char **argv) {
     sl_envfit_settings s;
     sl_envfit_default_settings(&s);
     s.progress = 1;
-    int clamp = 0, quiet = 0, have_lobes = 0, missing = 0;
+    int clamp = 0, quiet = sl_is_quiet(), have_lobes = 0, missing = 0;
     double exposure = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -55,7 +69,7 @@ int cmd_fit(int argc, char **argv) {
             if (missing) return 2;
             if (strcmp(v, "auto") == 0)
                 s.lobes = 0;
-            else if (cli_int("fit", "--lobes", v, 1, SL_LOBES_MAX, &lv))
+            else if (fit_lobes_arg("--lobes", v, &lv))
                 return 2;
             else
                 s.lobes = (int)lv;
@@ -65,7 +79,7 @@ int cmd_fit(int argc, char **argv) {
             if (!(dv > 0)) return cli_usage_error("fit", "--target-error: must be > 0");
             s.target_error = dv;
         } else if (cli_opt(argc, argv, &i, "--max-lobes", &v, &missing)) {
-            if (missing || cli_int("fit", "--max-lobes", v, 1, SL_LOBES_MAX, &lv)) return 2;
+            if (missing || fit_lobes_arg("--max-lobes", v, &lv)) return 2;
             s.max_lobes = (int)lv;
         } else if (cli_opt(argc, argv, &i, "-o", &v, &missing) ||
                    cli_opt(argc, argv, &i, "--output", &v, &missing)) {

@@ -1,5 +1,6 @@
 /* cmd_kernels.c: `strandlight kernels`: runs every registered OpenCL kernel against its C twin
- * (host/verify/checks/kernel_checks.c) on the chosen device and prints differences, tolerances and times.
+ * (host/verify/checks/kernel_checks.c) on the chosen device and prints differences, tolerances and
+ * times.
  * --check: the table kernel | backend | cases | max abs | max rel | tolerance | result over the
  * generated typical inputs and (checks with has_extreme) their extreme inputs, then the extreme
  * sweep (sl_kernel_extreme); --bench: the same rows with the best C and OpenCL times. Without
@@ -53,47 +54,83 @@ static void tol_str(const sl_kernel_check_result *r, char *tol, size_t n) {
 }
 
 /* --check / --bench: one row per (check, input set); typical always, extreme where the check
- * generates its own (the others: the extreme sweep after the table). */
+ * generates its own (the others: the extreme sweep after the table). Rows are gathered and printed
+ * at the end with columns as wide as their widest cell (nothing is cut); a terminal shows which
+ * check is running meanwhile. */
+#define KROWS 256
+#define KCOLS 7
+typedef struct krow {
+    char cell[KCOLS][260];
+    char extra[1100]; /* a FAIL's message or the "outside the tolerance" line, or "" */
+    char bench[80];
+    int fail_msg; /* the row is "FAIL: msg" after kernel and backend */
+} krow;
+
 static void table(const sl_device *dev, const sl_kernel_check *checks, size_t n, const char *only,
                   const sl_kernel_check_opts *o0, int bench, int *passed, int *failed) {
-    char backend[24];
-    snprintf(backend, sizeof backend, "%.23s", dev->name);
-    printf("%-16s %-23s %-28s %-9s %-9s %-16s %s", "kernel", "backend", "cases", "max_abs",
-           "max_rel", "tolerance", "result");
-    if (bench) printf(" %9s %9s %9s", "C_ms", "CL_ms", "CL_wall");
-    printf("\n");
+    static krow rows[KROWS];
+    int nr = 0;
+    static const char *head[KCOLS] = {"kernel",  "backend",   "cases", "max_abs",
+                                      "max_rel", "tolerance", "result"};
     for (size_t i = 0; i < n; i++) {
         if (only && strcmp(only, checks[i].name) != 0) continue;
-        for (int x = 0; x <= (checks[i].has_extreme ? 1 : 0); x++) {
+        for (int x = 0; x <= (checks[i].has_extreme ? 1 : 0) && nr < KROWS; x++) {
             sl_kernel_check_opts o = *o0;
             o.extreme = x;
             sl_kernel_check_result r;
             memset(&r, 0, sizeof r);
             sl_err e = {{0}};
+            krow *w = &rows[nr++];
+            memset(w, 0, sizeof *w);
+            snprintf(w->cell[0], sizeof w->cell[0], "%s", checks[i].name);
+            snprintf(w->cell[1], sizeof w->cell[1], "%s", dev->name);
+            sl_status("kernels: %s (%s)", checks[i].name, x ? "extreme" : "typical");
             if (checks[i].run(dev->cl, &o, &r, &e)) {
-                printf("%-16s %-23s FAIL: %s\n", checks[i].name, backend, e.msg);
+                w->fail_msg = 1;
+                snprintf(w->extra, sizeof w->extra, "FAIL: %s", e.msg);
                 (*failed)++;
                 continue;
             }
-            char ma[32], mr[32], tol[64], cases[64];
-            fmt_num(ma, sizeof ma, r.max_abs);
-            fmt_num(mr, sizeof mr, r.max_rel);
-            tol_str(&r, tol, sizeof tol);
+            fmt_num(w->cell[3], sizeof w->cell[3], r.max_abs);
+            fmt_num(w->cell[4], sizeof w->cell[4], r.max_rel);
+            tol_str(&r, w->cell[5], sizeof w->cell[5]);
             if (checks[i].has_extreme)
-                snprintf(cases, sizeof cases, "%s", r.problem);
+                snprintf(w->cell[2], sizeof w->cell[2], "%s", r.problem);
             else
-                snprintf(cases, sizeof cases, "typical %.40s", r.problem);
-            printf("%-16s %-23s %-28.28s %-9s %-9s %-16s %s", checks[i].name, backend, cases, ma,
-                   mr, tol, r.pass ? "PASS" : "FAIL");
+                snprintf(w->cell[2], sizeof w->cell[2], "typical %s", r.problem);
+            snprintf(w->cell[6], sizeof w->cell[6], "%s", r.pass ? "PASS" : "FAIL");
             if (bench)
-                printf("   %9.3f %9.3f%s %8.3f", 1e3 * r.c_s, 1e3 * r.cl_s,
-                       r.cl_s_is_device ? "" : "w", 1e3 * r.cl_wall_s);
-            printf("\n");
+                snprintf(w->bench, sizeof w->bench, "   %9.3f %9.3f%s %8.3f", 1e3 * r.c_s,
+                         1e3 * r.cl_s, r.cl_s_is_device ? "" : "w", 1e3 * r.cl_wall_s);
             if (!r.pass)
-                printf("  %zu of %zu outputs outside the tolerance (%s)\n", r.bad, r.compared,
-                       r.note);
+                snprintf(w->extra, sizeof w->extra,
+                         "  %zu of %zu outputs outside the tolerance (%s)", r.bad, r.compared,
+                         r.note);
             r.pass ? (*passed)++ : (*failed)++;
         }
+    }
+    sl_status_clear();
+    int wd[KCOLS];
+    for (int c = 0; c < KCOLS; c++) {
+        wd[c] = (int)strlen(head[c]);
+        for (int k = 0; k < nr; k++)
+            if (!rows[k].fail_msg || c < 2)
+                if ((int)strlen(rows[k].cell[c]) > wd[c]) wd[c] = (int)strlen(rows[k].cell[c]);
+    }
+    for (int c = 0; c < KCOLS; c++)
+        printf("%-*s%s", c + 1 < KCOLS ? wd[c] : 0, head[c], c + 1 < KCOLS ? " " : "");
+    if (bench) printf(" %9s %9s %9s", "C_ms", "CL_ms", "CL_wall");
+    printf("\n");
+    for (int k = 0; k < nr; k++) {
+        const krow *w = &rows[k];
+        if (w->fail_msg) {
+            printf("%-*s %-*s %s\n", wd[0], w->cell[0], wd[1], w->cell[1], w->extra);
+            continue;
+        }
+        for (int c = 0; c < KCOLS; c++) /* the last column unpadded: no trailing blanks */
+            printf("%-*s%s", c + 1 < KCOLS ? wd[c] : 0, w->cell[c], c + 1 < KCOLS ? " " : "");
+        printf("%s\n", w->bench);
+        if (w->extra[0]) printf("%s\n", w->extra);
     }
 }
 

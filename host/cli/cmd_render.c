@@ -23,12 +23,17 @@
 #include <unistd.h>
 
 static const char *usage_text =
-    "usage: strandlight render SCENE.json [options]\n"
+    "usage: strandlight render SCENE.json|- [options]   (-: the scene on standard input, relative\n"
+    "       paths from the working directory)\n"
     "\n"
     "Renders SCENE.json (format: ../shared/spec/scene.md, README) to an OpenEXR file and a PNG\n"
     "preview (docs/frame.md). Options override the scene's settings:\n"
-    "  --exr FILE          EXR output (default: output.exr of the scene, else out/frame.exr)\n"
-    "  --png FILE          PNG preview (default: output.png of the scene, if any)\n"
+    "  -o, --exr FILE      EXR output (default: output.exr of the scene, else out/frame.exr)\n"
+    "  --png FILE          PNG preview (default: output.png of the scene, if any, unless an\n"
+    "                      EXR was named on the command line: -o alone writes only that EXR)\n"
+    "  --exposure STOPS    PNG preview exposure in stops (default output.exposure, 0): the\n"
+    "                      preview is 2^STOPS x linear radiance, ACES filmic tone map, sRGB;\n"
+    "                      the EXR always holds linear radiance\n"
     "  --width W, --height H   image size\n"
     "  --device SPEC       auto|gpu|pocl|c|opencl|P:D (default auto)\n"
     "  --aov LIST          AOVs to add, comma-separated: R,TT,TRT,MS,shadow,lobes,depth,alpha\n"
@@ -76,8 +81,8 @@ static int parse_aovs(const char *list, int *mask) {
 }
 
 /* Resource limits (docs/robustness.md sec. 4). Before any work, the frame's largest buffers are
- * estimated from the scene's settings (sl_frame_estimate, host/plan/frame.h: the same size rules the
- * passes allocate with) and the request is refused, with the setting to lower, when they exceed
+ * estimated from the scene's settings (sl_frame_estimate, host/plan/frame.h: the same size rules
+ * the passes allocate with) and the request is refused, with the setting to lower, when they exceed
  * the host budget (SL_RENDER_MEM_MB, default half of physical memory) or, on OpenCL, when one
  * device buffer exceeds CL_DEVICE_MAX_MEM_ALLOC_SIZE. */
 static double render_budget(const char **why) {
@@ -136,7 +141,7 @@ static void frame_path(const char *path, int frame, char *out, size_t n) {
 }
 
 static int write_outputs(const sl_fbuf *f, int aovs, const char *exr, const char *png,
-                         int use_float, sl_err *e) {
+                         int use_float, double exposure, sl_err *e) {
     size_t n = (size_t)f->width * f->height;
     sl_exr_channel ch[32];
     int nch = 0;
@@ -169,7 +174,8 @@ static int write_outputs(const sl_fbuf *f, int aovs, const char *exr, const char
     free(planes);
     free(mp);
     if (rc) return -1;
-    if (png && png[0] && sl_png_write(png, f->width, f->height, f->rgba, 0.0f, e)) return -1;
+    if (png && png[0] && sl_png_write(png, f->width, f->height, f->rgba, (float)exposure, e))
+        return -1;
     return 0;
 }
 
@@ -177,7 +183,8 @@ int cmd_render(int argc, char **argv) {
     const char *scene_path = NULL, *exr = NULL, *png = NULL, *device = "auto", *v;
     const char *rate = NULL, *frames = NULL;
     long width = 0, height = 0, orbit = 0, threads = 0;
-    int clamp_nonfinite = 0, missing = 0, explain = 0, aovs = 0, aov_given = 0;
+    int clamp_nonfinite = 0, missing = 0, explain = 0, aovs = 0, aov_given = 0, exposure_given = 0;
+    double exposure = 0.0;
     sl_render_opts ro;
     sl_render_opts_default(&ro);
     for (int i = 1; i < argc; i++) {
@@ -185,6 +192,8 @@ int cmd_render(int argc, char **argv) {
             fputs(usage_text, stdout);
             return 0;
         } else if (cli_opt(argc, argv, &i, "--exr", &exr, &missing) ||
+                   cli_opt(argc, argv, &i, "-o", &exr, &missing) ||
+                   cli_opt(argc, argv, &i, "--output", &exr, &missing) ||
                    cli_opt(argc, argv, &i, "--png", &png, &missing) ||
                    cli_opt(argc, argv, &i, "--device", &device, &missing) ||
                    cli_opt(argc, argv, &i, "--shading-rate", &rate, &missing) ||
@@ -198,6 +207,14 @@ int cmd_render(int argc, char **argv) {
             sl_err me;
             if (sl_render_method_parse(v, &ro.srbf_method, &me))
                 return cli_usage_error("render", "--method: %s", me.msg);
+        } else if (cli_opt(argc, argv, &i, "--exposure", &v, &missing)) {
+            char *end = NULL;
+            if (missing) return 2;
+            exposure = strtod(v, &end);
+            if (end == v || *end || !isfinite(exposure) || fabs(exposure) > 30)
+                return cli_usage_error("render",
+                                       "--exposure: expected stops in [-30, 30], got \"%s\"", v);
+            exposure_given = 1;
         } else if (cli_opt(argc, argv, &i, "--width", &v, &missing)) {
             if (missing || cli_int("render", "--width", v, 1, 16384, &width)) return 2;
         } else if (cli_opt(argc, argv, &i, "--height", &v, &missing)) {
@@ -210,7 +227,7 @@ int cmd_render(int argc, char **argv) {
             explain = 1;
         } else if (strcmp(argv[i], "--clamp-nonfinite") == 0) {
             clamp_nonfinite = 1;
-        } else if (argv[i][0] == '-') {
+        } else if (argv[i][0] == '-' && argv[i][1] != 0) {
             return cli_usage_error("render", "unknown option %s", argv[i]);
         } else if (!scene_path) {
             scene_path = argv[i];
@@ -262,6 +279,12 @@ int cmd_render(int argc, char **argv) {
         for (int i = 0; i < s->num_aovs; i++)
             aovs |= aov_bit(s->aovs[i]) > 0 ? aov_bit(s->aovs[i]) : 0;
     if (render_check_limits(s, ro.shadow_size, NULL, &e)) goto done;
+    /* the outputs first: a bad path is found now, not after the whole render */
+    const char *exr_out = exr ? exr : (s->out_exr[0] ? s->out_exr : "out/frame.exr");
+    const char *png_out = png ? png : (exr ? NULL : s->out_png);
+    if (sl_output_precheck(exr_out, exr ? "--exr" : "output.exr", &e)) goto done;
+    if (png_out && png_out[0] && sl_output_precheck(png_out, png ? "--png" : "output.png", &e))
+        goto done;
     if (sl_device_open(device, &dev, &e)) goto done;
     if (render_check_limits(s, ro.shadow_size, &dev, &e)) goto done;
     if (sl_scene_inputs_finish(&in, &io, &e)) goto done;
@@ -269,8 +292,10 @@ int cmd_render(int argc, char **argv) {
     const sl_lobes *lobes = &in.lobes;
     const double *target = in.target;
     const sl_camera cam0 = in.cam;
-    const char *exr_path = exr ? exr : (s->out_exr[0] ? s->out_exr : "out/frame.exr");
-    const char *png_path = png ? png : s->out_png;
+    const char *exr_path = exr_out;
+    /* An EXR named on the command line is this run's output: the scene's PNG would otherwise be
+     * overwritten by a render that was asked for somewhere else (issue 22). */
+    const char *png_path = png_out;
     r = sl_renderer_create(&dev, &ro);
     /* material.strand_sigma_a: per-strand absorption (docs/formats.md) */
     if (in.strand_sigma_a &&
@@ -297,7 +322,8 @@ int cmd_render(int argc, char **argv) {
         sl_fbuf fbuf;
         double tf = sl_now();
         if (sl_renderer_frame(r, s, h, lobes, &cam, &fbuf, &e)) goto done;
-        int wrc = write_outputs(&fbuf, aovs, exr_f, png_f, s->exr_float, &e);
+        int wrc = write_outputs(&fbuf, aovs, exr_f, png_f, s->exr_float,
+                                exposure_given ? exposure : s->exposure, &e);
         sl_fbuf_free(&fbuf);
         if (wrc) goto done;
         if (explain) {
@@ -305,9 +331,10 @@ int cmd_render(int argc, char **argv) {
             sl_renderer_explain(r, stdout);
             fflush(stdout);
         }
-        sl_note("render: frame %ld: %u strands, %dx%d, %d of %d lobes -> %s%s%s (%.2f s)", f,
-                h->num_strands, s->width, s->height, sl_renderer_lobes_used(r), lobes->count, exr_f,
-                png_f[0] ? " + " : "", png_f, sl_now() - tf);
+        sl_note("render: frame %ld: %u strands, %dx%d, model %s, %d of %d lobes -> %s%s%s (%.2f s)",
+                f, h->num_strands, s->width, s->height, sl_material_model_name(s->material.model),
+                sl_renderer_lobes_used(r), lobes->count, exr_f, png_f[0] ? " + " : "", png_f,
+                sl_now() - tf);
     }
     sl_note("render: done in %.2f s on %s", sl_now() - t0, dev.name);
     rc = 0;

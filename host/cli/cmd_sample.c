@@ -32,7 +32,7 @@ int cmd_sample(int argc, char **argv) {
     const char *map_path = NULL, *out_path = NULL, *v;
     long nlights = 0, threads = 2;
     double conv_deg = 10;
-    int clamp = 0, quiet = 0, missing = 0;
+    int clamp = 0, quiet = sl_is_quiet(), missing = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (cli_is_help(a)) {

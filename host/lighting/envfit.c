@@ -204,10 +204,10 @@ int sl_envfit(const sl_envmap *map, const sl_envfit_settings *s, sl_lobes *out,
     out->rel_l2 = out->lobe_conv_rel_l2 = -1;
     if (!map || map->width < 2 || map->height < 1 || !map->rgb)
         return sl_fail(e, "fit: the environment map is empty");
-    if (s->lobes < 0 || s->lobes > SL_LOBES_MAX)
+    if (s->lobes < 0 || s->lobes > SL_FIT_LOBES_MAX)
         return sl_fail(e, "fit: bad lobe count %d", s->lobes);
     if (s->lobes == 0 &&
-        (s->max_lobes < 1 || s->max_lobes > SL_LOBES_MAX || !(s->target_error > 0)))
+        (s->max_lobes < 1 || s->max_lobes > SL_FIT_LOBES_MAX || !(s->target_error > 0)))
         return sl_fail(e, "fit: auto mode needs max_lobes >= 1 and target_error > 0");
     if (!(s->lambda_max > 0) || !(s->lambda_min >= 0) || !(s->effort > 0) || !(s->conv_lambda > 0))
         return sl_fail(e, "fit: lambda bounds, effort and conv_lambda must be positive");

@@ -21,12 +21,13 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/ioctl.h>
 #include <unistd.h>
 
 void sl_render_opts_default(sl_render_opts *o) {
     memset(o, 0, sizeof *o);
     o->srbf_method = SL_RENDER_SRBF_AUTO;
-    o->segments = 4;
+    o->segments = 0;        /* the scene's quality.segments_m */
     o->lobe_threshold = -1; /* the scene's quality.lobe_threshold */
 }
 
@@ -186,15 +187,54 @@ static const sl_pass_desc *desc_of(const char *name) {
     return NULL;
 }
 
+/* Width to wrap explain rows at: the terminal's on a terminal, else none (a file or a pipe gets
+ * whole rows, for grep). */
+static int explain_width(FILE *f) {
+    if (!isatty(fileno(f))) return 0;
+    struct winsize ws;
+    if (ioctl(fileno(f), TIOCGWINSZ, &ws) == 0 && ws.ws_col >= 60) return ws.ws_col;
+    return 100;
+}
+
+/* text from column `col` on, wrapped at word boundaries to `width` (0: no wrapping), later lines
+ * indented to `indent`. */
+static void put_wrapped(FILE *f, const char *text, int col, int indent, int width) {
+    if (width <= 0 || col + (int)strlen(text) <= width) {
+        fputs(text, f);
+        return;
+    }
+    const char *p = text;
+    while (*p) {
+        int room = width - col;
+        if (room < 20) room = 20;
+        int n = (int)strlen(p);
+        if (n <= room) {
+            fputs(p, f);
+            break;
+        }
+        int cut = room;
+        while (cut > 0 && p[cut] != ' ') cut--;
+        if (cut == 0) cut = room; /* one long word: cut it */
+        fprintf(f, "%.*s\n%*s", cut, p, indent, "");
+        p += cut;
+        while (*p == ' ') p++;
+        col = indent;
+    }
+}
+
 void sl_renderer_explain(const sl_renderer *r, FILE *f) {
     static const char *st[] = {"run", "cached", "skipped"};
+    int width = explain_width(f);
     fprintf(f, "%-10s %-8s %9s  %s  [keyed on]\n", "pass", "state", "time", "why");
     for (int i = 0; i < r->npass; i++) {
         const sl_pass_desc *d = desc_of(r->pass[i].name);
-        char keyed[160] = "-";
+        char keyed[160] = "-", rest[800];
         if (d) sl_pass_keyed_on(d, keyed, sizeof keyed);
-        fprintf(f, "%-10s %-8s %8.3fs  %s  [%s]\n", r->pass[i].name, st[r->pass[i].state],
-                r->pass[i].seconds, r->pass[i].why, keyed);
+        fprintf(f, "%-10s %-8s %8.3fs  ", r->pass[i].name, st[r->pass[i].state],
+                r->pass[i].seconds);
+        snprintf(rest, sizeof rest, "%s  [%s]", r->pass[i].why, keyed);
+        put_wrapped(f, rest, 31, 31, width);
+        fputc('\n', f);
     }
     fprintf(f, "%-10s %-8s %8.3fs\n", "total", "", r->total_s);
 }
@@ -312,6 +352,9 @@ static int run_passes(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
             record(r, d, SL_PASS_CACHED, 0, r->rec_why);
         } else {
             double t0 = sl_now();
+            /* which pass a long frame is in, on a terminal (passes with a bar draw their own) */
+            sl_status("frame: %s pass (%d of %d), %.1f s", d->name, i + 1, SL_PASSID_COUNT,
+                      t0 - r->frame_t0);
             if (d->run(r, in, e)) return -1;
             if (d->keyed) r->key[i] = key;
             record(r, d, r->rec_state, r->rec_state == SL_PASS_CACHED ? 0 : sl_now() - t0,
@@ -364,11 +407,14 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     memset(w, 0, sizeof *w);
     if (sl_shading_rate_parse(s->shading_rate, &w->rate, e)) return -1;
     w->K = sl_frame_oit_k(s);
+    w->segments = r->o.segments > 0 ? r->o.segments : s->segments_m;
     w->transparent = sl_frame_hair_transparent(h);
     sl_frame_inputs in = {s, h, lobes, cam, out};
     sl_frame_hash_inputs(&in, r->data_hash);
     r->data_hash[SL_DATA_STRAND_SIGMA] = r->strand_key;
+    r->frame_t0 = t_start;
     int rc = run_passes(r, &in, e);
+    sl_status_clear();
     if (rc == 0) r->frames_done++;
     free_work(w);
     if (rc) sl_fbuf_free(out);

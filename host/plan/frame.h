@@ -68,7 +68,7 @@ const char *sl_render_method_name(int method);
 typedef struct sl_render_opts {
     int srbf_method;       /* SL_RENDER_SRBF_AUTO (default), SL_SRBF_METHOD_FAST or _XU, or
                               SL_RENDER_SRBF_TABLE */
-    int segments;          /* m for xu (default 4) */
+    int segments;          /* m for xu; 0 (default): the scene's quality.segments_m */
     int shadow_size;       /* deep opacity map size, 0: auto (256, 512 above 1M pixels) */
     double lobe_threshold; /* < 0 (default): the scene's quality.lobe_threshold; >= 0 overrides */
     int threads;           /* 0: every online CPU */
@@ -87,7 +87,7 @@ enum { SL_PASS_RUN = 0, SL_PASS_CACHED = 1, SL_PASS_SKIPPED = 2 };
 typedef struct sl_pass_rec {
     char name[24];
     int state;
-    char why[200];
+    char why[600];
     double seconds;
 } sl_pass_rec;
 #define SL_FRAME_MAX_PASSES 16

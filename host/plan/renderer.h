@@ -20,12 +20,14 @@ typedef struct sl_frame_work {
     int extra_maps; /* deep opacity maps beyond one per used lobe */
     int rate;       /* quality.shading_rate parsed: -1 auto, 0 fragment, k vertex */
     int K;          /* K-buffer entries per pixel (sl_frame_oit_k) */
+    int segments;   /* m of Xu's form: --segments, else quality.segments_m */
     int transparent;
     sl_shade_points pts;
     sl_shade_map sm;
 } sl_frame_work;
 
 struct sl_renderer {
+    double frame_t0; /* sl_now() at the start of the frame (status lines) */
     sl_device *dev;
     sl_render_opts o;
     /* the cache: each pass's key after its last successful run (0: nothing cached), and this
@@ -71,7 +73,7 @@ struct sl_renderer {
     /* the frame in progress */
     sl_frame_work fw;
     int rec_state;     /* the running pass's state (run unless its run says otherwise) */
-    char rec_why[200]; /* the running pass's why (sl_frame_why) */
+    char rec_why[600]; /* the running pass's why (sl_frame_why) */
     /* last frame's plan */
     int npass;
     sl_pass_rec pass[SL_FRAME_MAX_PASSES];

@@ -21,7 +21,7 @@ int sl_frame_shade(sl_renderer *r, const sl_shade_ctx *c, sl_shade_points *p, sl
          * the rest (painted strands) from the closed form */
         .table = r->srbf_used == SL_RENDER_SRBF_TABLE && r->have_ren,
         .method = r->srbf_used == SL_SRBF_METHOD_XU ? SL_SRBF_METHOD_XU : SL_SRBF_METHOD_FAST,
-        .segments = r->o.segments,
+        .segments = r->fw.segments,
         .tables = &r->tables,
         .ren = &r->ren,
         .ren_mem = &r->ren_mem,

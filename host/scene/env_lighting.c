@@ -14,7 +14,7 @@
 
 /* The "fit" record: everything needed to tell whether lobes are stale and how good they are. */
 char *sl_envfit_record(const char *map_path, const sl_envmap *m, const sl_envfit_settings *s,
-                        int clamp, const sl_envfit_report *r, int count) {
+                       int clamp, const sl_envfit_report *r, int count) {
     cJSON *fit = cJSON_CreateObject();
     char hash[32];
     snprintf(hash, sizeof hash, "%016llx", (unsigned long long)m->hash);
@@ -54,7 +54,30 @@ char *sl_envfit_record(const char *map_path, const sl_envmap *m, const sl_envfit
 
 int sl_scene_lobes(const sl_scene *s, int clamp_nonfinite, sl_lobes *out, sl_err *e) {
     memset(out, 0, sizeof *out);
-    if (s->env_lobes[0]) return sl_lobes_load(s->env_lobes, out, e);
+    if (s->env_lobes[0]) {
+        if (sl_lobes_load(s->env_lobes, out, e)) return -1;
+        /* Both a map and lobes: the lobes must be the map's (the frame shades the lobes, the
+         * references the map); a file fitted to another map is refused, not used silently. */
+        if (s->env_file[0] && out->map_hash[0]) {
+            sl_envmap map = {0};
+            if (sl_envmap_load(s->env_file, clamp_nonfinite, &map, e)) {
+                sl_lobes_free(out);
+                return -1;
+            }
+            char hash[32];
+            snprintf(hash, sizeof hash, "%016llx", (unsigned long long)map.hash);
+            sl_envmap_free(&map);
+            if (strcmp(hash, out->map_hash) != 0) {
+                sl_fail(e,
+                        "%s: environment.lobes: %s was fitted to another map (map_hash %s; "
+                        "environment.file %s has %s): refit with `strandlight fit` or drop one key",
+                        s->path, s->env_lobes, out->map_hash, s->env_file, hash);
+                sl_lobes_free(out);
+                return -1;
+            }
+        }
+        return 0;
+    }
     sl_envmap map = {0};
     if (sl_envmap_load(s->env_file, clamp_nonfinite, &map, e)) return -1;
     sl_envfit_settings set;
@@ -90,8 +113,9 @@ int sl_scene_lobes(const sl_scene *s, int clamp_nonfinite, sl_lobes *out, sl_err
         return -1;
     }
     out->fit_json = sl_envfit_record(s->env_file, &map, &set, clamp_nonfinite, &rep, out->count);
-    sl_note("environment: fitted %d lobes to %s in %.2f s (rel_l2 %.3f, through a 10 deg lobe %.3f)",
-            out->count, s->env_file, rep.time_s, rep.rel_l2, rep.lobe_conv_rel_l2);
+    sl_note(
+        "environment: fitted %d lobes to %s in %.2f s (rel_l2 %.3f, through a 10 deg lobe %.3f)",
+        out->count, s->env_file, rep.time_s, rep.rel_l2, rep.lobe_conv_rel_l2);
     if (path[0]) {
         sl_err ce = {{0}};
         size_t n = 0;
@@ -111,6 +135,7 @@ void sl_lobes_transform(sl_lobes *l, double rotation_deg, double intensity) {
         double *d = l->lobe[i].dir, x = d[0], z = d[2];
         d[0] = c * x + sn * z;
         d[2] = -sn * x + c * z;
-        for (int k = 0; k < 3; k++) l->lobe[i].rgb[k] *= intensity;
+        for (int k = 0; k < 3; k++)
+            l->lobe[i].rgb[k] *= intensity;
     }
 }

@@ -22,6 +22,10 @@ static void chiang_default(sl_chiang *c) {
     c->offset = 2.0 * DEG;
 }
 
+const char *sl_material_model_name(int model) {
+    return model == SL_MODEL_DEON ? "deon" : model == SL_MODEL_CHIANG ? "chiang" : "marschner";
+}
+
 void sl_material_default(sl_material *m) {
     memset(m, 0, sizeof *m);
     m->model = SL_MODEL_MARSCHNER;
@@ -91,7 +95,6 @@ void sl_chiang_derive(sl_material *m) {
         m->sigma_a_rgb = 1;
     }
 }
-
 
 void sl_material_to_fiber(const sl_material *m, int channel, sl_fiber_params *fp) {
     memset(fp, 0, sizeof *fp);

@@ -63,6 +63,9 @@ void sl_chiang_sigma_a_rgb(const sl_chiang *c, double sigma_a[3]);
  * material from m->chiang: for code that builds a material without JSON (tests). */
 void sl_chiang_derive(sl_material *m);
 
+/* "marschner", "deon" or "chiang". */
+const char *sl_material_model_name(int model);
+
 /* The defaults of numerics.md section 2. */
 void sl_material_default(sl_material *m);
 /* "marschner", "deon" or "chiang" (the JSON name of an SL_MODEL_*; "?" for another value). */

@@ -3,6 +3,7 @@
 
 #include "base/json_util.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -275,7 +276,7 @@ static int read_quality(const sl_json_ctx *top, const cJSON *q, sl_scene *s, sl_
 }
 
 static int read_output(const sl_json_ctx *top, const cJSON *o, sl_scene *s, sl_err *e) {
-    static const char *const keys[] = {"exr", "png", "aovs", "float", NULL};
+    static const char *const keys[] = {"exr", "png", "aovs", "float", "exposure", NULL};
     static const char *const known_aovs[] = {"R",      "TT",    "TRT",   "MS", "depth",
                                              "shadow", "lobes", "alpha", NULL};
     sl_json_ctx c = {top->file, "output"};
@@ -286,6 +287,14 @@ static int read_output(const sl_json_ctx *top, const cJSON *o, sl_scene *s, sl_e
     rel[0] = 0;
     if (sl_json_string(&c, o, "png", 0, rel, sizeof rel, e)) return -1;
     if (rel[0]) resolve(s->path, rel, s->out_png, sizeof s->out_png);
+    const cJSON *ex = cJSON_GetObjectItemCaseSensitive(o, "exposure");
+    if (ex) {
+        if (!cJSON_IsNumber(ex) || !isfinite(ex->valuedouble))
+            return sl_fail(e, "%s: output.exposure: expected a number (stops)", top->file);
+        if (fabs(ex->valuedouble) > 30)
+            return sl_fail(e, "%s: output.exposure: must be in [-30, 30] stops", top->file);
+        s->exposure = ex->valuedouble;
+    }
     const cJSON *fl = cJSON_GetObjectItemCaseSensitive(o, "float");
     if (fl) {
         if (!cJSON_IsBool(fl))
@@ -358,9 +367,43 @@ done:
     return rc;
 }
 
+/* "-": the scene from standard input, named "<stdin>" in messages, relative paths from the
+ * working directory. */
+static int read_stdin(unsigned char **data, size_t *size, size_t max, sl_err *e) {
+    size_t cap = 65536, n = 0;
+    unsigned char *buf = sl_malloc(cap + 1);
+    for (;;) {
+        if (n == cap) {
+            if (cap >= max) {
+                free(buf);
+                return sl_fail(e, "<stdin>: larger than %zu bytes", max);
+            }
+            cap *= 2;
+            buf = sl_realloc(buf, cap + 1);
+        }
+        size_t got = fread(buf + n, 1, cap - n, stdin);
+        n += got;
+        if (got == 0) break;
+    }
+    if (ferror(stdin)) {
+        free(buf);
+        return sl_fail(e, "<stdin>: read error");
+    }
+    buf[n] = 0;
+    *data = buf;
+    *size = n;
+    return 0;
+}
+
 int sl_scene_load(const char *path, sl_scene *s, sl_err *e) {
     unsigned char *data;
     size_t n;
+    if (strcmp(path, "-") == 0) {
+        if (read_stdin(&data, &n, 16u << 20, e)) return -1;
+        int rc = sl_scene_parse((const char *)data, n, "<stdin>", s, e);
+        free(data);
+        return rc;
+    }
     if (sl_read_file(path, &data, &n, 16u << 20, e)) return -1;
     int rc = sl_scene_parse((const char *)data, n, path, s, e);
     free(data);

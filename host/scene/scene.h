@@ -70,6 +70,7 @@ typedef struct sl_scene {
     /* output */
     char out_exr[4096], out_png[4096];
     int exr_float;
+    double exposure; /* output.exposure: stops applied to the PNG preview only (0) */
     char aovs[16][32];
     int num_aovs;
 } sl_scene;

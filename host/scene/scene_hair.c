@@ -11,9 +11,23 @@ int sl_scene_load_hair(const sl_scene *s, sl_hair *h, sl_err *e) {
     } else {
         if (sl_hair_load(s->hair_file, h, e)) return -1;
         if (s->up_z) sl_hair_z_up_to_y_up(h);
-        /* tfx_follow densifies TressFX guides; a .tfxproj already brought its own followers. */
-        if (s->has_follow && s->follow_per_guide > 0 && !h->follow_added &&
-            strncmp(h->format, "TressFX", 7) == 0) {
+        /* tfx_follow densifies TressFX guides; a .tfxproj already brought its own followers.
+         * Where it cannot apply it is an error, not a setting silently dropped (issue 22). */
+        if (s->has_follow && strncmp(h->format, "TressFX", 7) != 0) {
+            sl_fail(e, "%s: hair.tfx_follow: applies to TressFX guides only (%s is %s)", s->path,
+                    s->hair_file, h->format);
+            sl_hair_free(h);
+            return -1;
+        }
+        if (s->has_follow && h->follow_added) {
+            sl_fail(e,
+                    "%s: hair.tfx_follow: %s sets its own followers (followPerGuide in the "
+                    ".tfxproj); remove tfx_follow",
+                    s->path, s->hair_file);
+            sl_hair_free(h);
+            return -1;
+        }
+        if (s->has_follow && s->follow_per_guide > 0) {
             sl_hair_follow f = {s->follow_per_guide, (float)s->follow_root_radius,
                                 (float)s->follow_tip_spread, 1};
             if (sl_hair_add_follow(h, &f, e)) {

@@ -30,17 +30,32 @@ int sl_scene_inputs_open(const char *scene_path, const sl_scene_inputs_opts *o, 
     return 0;
 }
 
+/* An error in a file the scene refers to names the scene and the key too: "scene.json:
+ * environment.file: maps/x.hdr: No such file or directory" (the file's own message follows). */
+static int in_scene(const sl_scene *s, const char *key, sl_err *e) {
+    size_t np = strlen(s->path);
+    if (np && strncmp(e->msg, s->path, np) == 0 && e->msg[np] == ':') return -1; /* named already */
+    char msg[sizeof e->msg];
+    snprintf(msg, sizeof msg, "%s", e->msg);
+    return sl_fail(e, "%s: %s: %s", s->path[0] ? s->path : "scene", key, msg);
+}
+
 int sl_scene_inputs_finish(sl_scene_inputs *in, const sl_scene_inputs_opts *o, sl_err *e) {
     const sl_scene *s = in->scene;
-    if (sl_scene_load_hair(s, &in->hair, e)) return -1;
+    if (sl_scene_load_hair(s, &in->hair, e))
+        return in_scene(s, s->hair_file[0] ? "hair.file" : "hair.procedural", e);
     if (o->lobes) {
-        if (sl_scene_lobes(s, o->clamp_nonfinite, &in->lobes, e)) return -1;
+        if (sl_scene_lobes(s, o->clamp_nonfinite, &in->lobes, e)) {
+            size_t nl = strlen(s->env_lobes);
+            int lobes = nl && strncmp(e->msg, s->env_lobes, nl) == 0;
+            return in_scene(s, lobes ? "environment.lobes" : "environment.file", e);
+        }
         sl_lobes_transform(&in->lobes, s->env_rotation_deg, s->env_intensity);
     }
     sl_hair_bounds(&in->hair, in->lo, in->hi);
     sl_scene_camera(s, in->lo, in->hi, s->width, s->height, in->target, &in->cam);
     if (o->strand_sigma_a && sl_scene_strand_sigma_a(s, &in->hair, &in->strand_sigma_a, e))
-        return -1;
+        return in_scene(s, "material.strand_sigma_a", e);
     return 0;
 }
 

@@ -18,7 +18,7 @@ struct GLFWwindow;
 typedef struct sl_ui_pass {
     char name[24];
     int state; /* 0 run, 1 cached, 2 skipped */
-    char why[200];
+    char why[600];
     double seconds;
 } sl_ui_pass;
 

@@ -163,7 +163,10 @@ fi
 # and no NaN/Inf pixel (`info` counts them).
 render_finite() {
     local name=$1 cam=$2; shift 2
-    sed "s|\"camera\": {\"fov_deg\": 30}|\"camera\": {\"fov_deg\": 30$cam}|" "$D/scene.json" >"$D/$name.json"
+    # cam is the camera object's keys after fov_deg, or a whole replacement starting with "fov_deg"
+    # (a second fov_deg would be a duplicate key: an error now, and ignored by cJSON before)
+    case $cam in \"fov_deg*) inner=$cam ;; *) inner="\"fov_deg\": 30$cam" ;; esac
+    sed "s|\"camera\": {\"fov_deg\": 30}|\"camera\": {$inner}|" "$D/scene.json" >"$D/$name.json"
     rm -rf "$D/out"
     local err
     if ! err=$("$SL" render "$D/$name.json" --device c "$@" 2>&1 >/dev/null); then
@@ -175,7 +178,7 @@ render_finite() {
 render_finite extreme_render_camera_inside ', "eye": [0, 0.5, 0], "target": [0, 0.5, 1]'
 render_finite extreme_render_camera_away ', "eye": [0, 0.5, 50], "target": [0, 0.5, 100]'
 render_finite extreme_render_one_pixel '' --width 1 --height 1
-render_finite extreme_render_degenerate_fov ', "fov_deg": 179' --width 7 --height 1
+render_finite extreme_render_degenerate_fov '"fov_deg": 179' --width 7 --height 1
 
 # Resource limits (docs/robustness.md sec. 4): render estimates its buffers from the settings
 # before any work and refuses what exceeds the host budget (SL_RENDER_MEM_MB, default half of

@@ -62,3 +62,31 @@ if have_shared; then
 else
     skip fit_shared_map "no shared data"
 fi
+
+# fit's lobe count has an upper bound with its reason (100000 used to be accepted and ran for
+# hours without a word); nothing is written
+err=$("$SL" fit data/env/city_256.hdr --lobes 100000 -o "$TMP/fit_big.json" 2>&1); rc=$?
+if [ "$rc" -eq 2 ] && printf '%s' "$err" | grep -q 'at most 512 (the fit.s cost grows' && [ ! -e "$TMP/fit_big.json" ]; then
+    pass fit_lobes_upper_bound
+else fail fit_lobes_upper_bound "exit $rc: $err"; fi
+
+# a lobes file fitted to another map than environment.file is refused naming the key; the
+# matching pair renders
+L="$TMP/fitpair"; rm -rf "$L"; mkdir -p "$L"
+"$SL" fit data/env/city_256.hdr --lobes 2 -o "$L/city.lobes.json" -q 2>/dev/null
+python3 - "$L" <<'PY'
+import sys
+# a 16x8 Radiance HDR of one constant colour, written by hand (RLE-free scanlines, 4 bytes/pixel)
+d = sys.argv[1]
+w, h = 16, 8
+with open(d + "/flat.hdr", "wb") as f:
+    f.write(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" % (h, w))
+    f.write(bytes([128, 128, 128, 129]) * (w * h))
+PY
+for m in city flat; do
+    map="$PWD/data/env/city_256.hdr"; [ $m = flat ] && map="flat.hdr"
+    printf '{"hair": {"procedural": {"strands": 20, "points": 6}}, "environment": {"file": "%s", "lobes": "city.lobes.json"}, "image": {"width": 16, "height": 12}}\n' "$map" > "$L/$m.json"
+done
+expect_ok fit_lobes_match_map "$SL" render "$L/city.json" --device c -o "$L/a.exr"
+expect_error fit_lobes_other_map "environment.lobes: " "$SL" render "$L/flat.json" --device c -o "$L/b.exr"
+if [ ! -e "$L/b.exr" ]; then pass fit_lobes_other_map_no_output; else fail fit_lobes_other_map_no_output "wrote b.exr"; fi

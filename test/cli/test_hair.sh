@@ -193,3 +193,19 @@ else
     skip bad_unreadable "running as root without a usable setpriv: chmod 000 does not prevent reading"
 fi
 chmod 600 "$D/unreadable.hair"
+
+# hair.tfx_follow where it cannot apply is an error naming the key (it used to be dropped silently)
+if have_shared && [ -f "$SHARED/hair/straight.hair" ] && [ -f "$SHARED/hair/tressfx3/ponytail/ponytail.tfxproj" ]; then
+    F="$TMP/follow"; mkdir -p "$F"
+    for pair in "straight:$PWD/$SHARED/hair/straight.hair" "proj:$PWD/$SHARED/hair/tressfx3/ponytail/ponytail.tfxproj"; do
+        n=${pair%%:*}; file=${pair#*:}
+        case $SHARED in /*) file=${file#"$PWD/"} ;; esac
+        printf '{"hair": {"file": "%s", "tfx_follow": {"per_guide": 4}}, "environment": {"file": "%s/data/env/city_256.hdr"}, "image": {"width": 16, "height": 12}}\n' \
+            "$file" "$PWD" > "$F/$n.json"
+    done
+    expect_error tfx_follow_not_tfx "hair.tfx_follow: applies to TressFX guides only" \
+        "$SL" render "$F/straight.json" --device c -o "$F/a.exr"
+    expect_error tfx_follow_on_tfxproj "hair.tfx_follow: " "$SL" render "$F/proj.json" --device c -o "$F/b.exr"
+else
+    skip tfx_follow_errors "no ../shared hair"
+fi

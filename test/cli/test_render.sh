@@ -119,3 +119,56 @@ if have_cl; then
 else
     skip render_deon_opencl "no OpenCL device"
 fi
+
+# quality.segments_m is Xu's m: under --method xu m = 1 and m = 4 must give different images (it
+# used to be parsed and then ignored, every m rendering as 4)
+for m in 1 4; do
+    sed "s/\"multiple_scattering\": \"auto\"/\"multiple_scattering\": \"off\", \"segments_m\": $m/" \
+        "$D/plain.json" > "$D/seg$m.json"
+    "$SL" render "$D/seg$m.json" --device c --method xu --exr "$D/seg$m.exr" 2>/dev/null
+done
+if [ -s "$D/seg1.exr" ] && [ -s "$D/seg4.exr" ] && ! cmp -s "$D/seg1.exr" "$D/seg4.exr"; then
+    pass render_segments_m_honoured
+else fail render_segments_m_honoured "segments_m 1 and 4 rendered the same image (or none)"; fi
+
+# -o names the EXR; an EXR named on the command line writes no PNG unless --png is given (the
+# scene's output.png would have been overwritten by a render asked for elsewhere)
+scene withpng "[0.18, 0.32, 0.62]" ', "png": "out/withpng.png"'
+rm -rf "$D/out"
+expect_ok render_o_exr "$SL" render "$D/withpng.json" --device c -o "$D/o.exr"
+if [ -s "$D/o.exr" ] && [ ! -e "$D/out/withpng.png" ]; then pass render_o_no_scene_png
+else fail render_o_no_scene_png "o.exr missing or the scene's PNG written"; fi
+expect_ok render_o_png "$SL" render "$D/withpng.json" --device c -o "$D/o2.exr" --png "$D/o2.png"
+if [ -s "$D/o2.png" ]; then pass render_o_with_png; else fail render_o_with_png "no PNG"; fi
+
+# --exposure / output.exposure change the PNG preview only (the EXR stays linear radiance);
+# a darker exposure gives a darker PNG
+expect_ok render_exposure0 "$SL" render "$D/plain.json" --device c -o "$D/e0.exr" --png "$D/e0.png"
+expect_ok render_exposure_m2 "$SL" render "$D/plain.json" --device c -o "$D/e2.exr" --png "$D/e2.png" --exposure -2
+if cmp -s "$D/e0.exr" "$D/e2.exr" && ! cmp -s "$D/e0.png" "$D/e2.png"; then pass render_exposure_png_only
+else fail render_exposure_png_only "EXR changed or PNG unchanged"; fi
+sed 's/"output": {/"output": {"exposure": -2, /' "$D/plain.json" > "$D/expo.json"
+expect_ok render_exposure_key "$SL" render "$D/expo.json" --device c -o "$D/e3.exr" --png "$D/e3.png"
+if cmp -s "$D/e2.png" "$D/e3.png"; then pass render_exposure_key_same; else fail render_exposure_key_same "output.exposure -2 differs from --exposure -2"; fi
+err=$("$SL" render "$D/plain.json" --device c --exposure x -o "$D/e4.exr" 2>&1); rc=$?
+if [ "$rc" -eq 2 ] && printf '%s' "$err" | grep -q -- '--exposure: expected stops' && [ ! -e "$D/e4.exr" ]; then
+    pass render_exposure_bad # a usage error: exit 2
+else fail render_exposure_bad "exit $rc: $err"; fi
+sed 's/"output": {/"output": {"exposure": "bright", /' "$D/plain.json" > "$D/expob.json"
+expect_error render_exposure_key_bad "output.exposure: expected a number" "$SL" render "$D/expob.json" --device c -o "$D/e5.exr"
+
+# outputs are validated before the work: an empty path, a directory, a tree of missing
+# directories are one-line errors (exit 1) and nothing is rendered or created
+expect_error render_out_empty "--exr: empty output path" "$SL" render "$D/plain.json" --device c --exr ""
+expect_error render_out_dir "is a directory, expected a file" "$SL" render "$D/plain.json" --device c -o "$D"
+expect_error render_out_deep "does not exist (only one missing level is created)" \
+    "$SL" render "$D/plain.json" --device c -o "$D/no/such/dir/x.exr"
+if [ ! -e "$D/no" ]; then pass render_out_deep_nothing_created; else fail render_out_deep_nothing_created "created $D/no"; fi
+
+# render - : the scene on standard input, relative paths from the working directory
+SLABS=$(cd "$(dirname "$SL")" && pwd)/$(basename "$SL")
+(cd "$D" && "$SLABS" render - --device c -o stdin.exr < plain.json 2>/dev/null)
+if [ -s "$D/stdin.exr" ]; then pass render_stdin; else fail render_stdin "no stdin.exr"; fi
+err=$(printf '{"hair": {}}' | "$SL" render - --device c -o "$D/stdin2.exr" 2>&1); rc=$?
+if [ "$rc" -eq 1 ] && printf '%s' "$err" | grep -q '^strandlight: <stdin>: hair: '; then pass render_stdin_error
+else fail render_stdin_error "exit $rc: $err"; fi

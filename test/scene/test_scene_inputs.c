@@ -130,7 +130,10 @@ TEST(scene_inputs_missing_files_in_order) {
     const char *p = scratch("nohair.json", "{\"hair\":{\"file\":\"missing.hair\"},"
                                            "\"environment\":{\"lobes\":\"missing.lobes.json\"}}");
     CHECK(sl_scene_inputs_load(p, &o, &in, &e) == -1);
-    snprintf(want, sizeof want, "%s/missing.hair: No such file or directory", dir);
+    /* the scene and the key that named the file come first (issue 22: the old message named
+     * only the missing file) */
+    snprintf(want, sizeof want, "%s: hair.file: %s/missing.hair: No such file or directory", p,
+             dir);
     CHECK_MSG(strcmp(e.msg, want) == 0, "got \"%s\"", e.msg);
     CHECK(in.scene && in.hair.num_strands == 0);
     sl_scene_inputs_free(&in);
@@ -140,7 +143,8 @@ TEST(scene_inputs_missing_files_in_order) {
                                 "\"material\":{\"strand_sigma_a\":\"missing.csv\"},"
                                 "\"environment\":{\"lobes\":\"missing.lobes.json\"}}");
     CHECK(sl_scene_inputs_load(p, &o, &in, &e) == -1);
-    snprintf(want, sizeof want, "%s/missing.lobes.json: No such file or directory", dir);
+    snprintf(want, sizeof want,
+             "%s: environment.lobes: %s/missing.lobes.json: No such file or directory", p, dir);
     CHECK_MSG(strcmp(e.msg, want) == 0, "got \"%s\"", e.msg);
     sl_scene_inputs_free(&in);
 

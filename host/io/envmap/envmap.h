@@ -84,6 +84,11 @@ int sl_envmap_decode_hdr(const unsigned char *data, size_t n, const char *name, 
 /* force_cxx: decode through the C++ API even when OpenEXRCore could (tests compare the two). */
 int sl_envmap_decode_exr(const unsigned char *data, size_t n, const char *name, int force_cxx,
                          sl_envmap *out, sl_err *e);
+/* An EXR image rather than a map: channels R, G, B and A (an error naming the file's channels
+ * when one is missing), any compression the map decoder reads, as interleaved RGBA floats
+ * (4*w*h, row 0 top, values as stored: nothing clamped). io/image/image_read.h wraps it. */
+int sl_exr_decode_rgba(const unsigned char *data, size_t n, const char *name, int *w, int *h,
+                       float **rgba, sl_err *e);
 /* Decodes by magic bytes (EXR or Radiance), without sanitizing. */
 int sl_envmap_decode_memory(const unsigned char *data, size_t n, const char *name, sl_envmap *out,
                             sl_err *e);

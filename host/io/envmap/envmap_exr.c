@@ -1,9 +1,10 @@
 /* envmap_exr.c: OpenEXR environment maps through OpenEXRCore (C), with DWAA/DWAB (which Core 3.1
  * cannot decode) handed to the C++ shim (exr_cxx_shim.h).
  *
- * Channels are matched by name (R, G, B [A ignored], or Y as grey), in any file order; they are
- * decoded planar to float, which avoids the Core 3.1.5 bug with 4 HALF channels into interleaved
- * float (toolchain.md sec. 3). Scanline and tiled parts are read (tiled: level 0). The bytes come
+ * Channels are matched by name (R, G, B [A ignored], or Y as grey; sl_exr_decode_rgba also
+ * decodes A, for images rather than maps), in any file order; they are decoded planar to float,
+ * which avoids the Core 3.1.5 bug with 4 HALF channels into interleaved float (toolchain.md
+ * sec. 3). Scanline and tiled parts are read (tiled: level 0). The bytes come
  * from memory through custom read/size callbacks, and the context's error handler stores the
  * library's message instead of printing it. */
 #include "io/envmap/envmap.h"
@@ -57,9 +58,9 @@ static const char *compression_name(exr_compression_t c) {
 
 /* The planes to decode and where they go. */
 typedef struct plan {
-    int nplanes;          /* 3 (R,G,B) or 1 (Y) */
-    const char *names[3]; /* file channel names */
-    float *planes[3];     /* w*h each */
+    int nplanes;          /* 3 (R,G,B), 1 (Y), or 4 (R,G,B,A: sl_exr_decode_rgba) */
+    const char *names[4]; /* file channel names */
+    float *planes[4];     /* w*h each */
     /* Every other channel is decoded too, unconverted, into its own slice of this per-chunk
      * scratch (chunk_px floats per channel): Core 3.1.5 crashes on tiled parts when a channel
      * is skipped with decode_to_ptr = NULL (measured: SIGSEGV in exr_decoding_run). */
@@ -353,8 +354,8 @@ static int cxx_header_ok(const unsigned char *d, size_t n, const exr_attr_box2i_
 }
 
 /* Picks the planes to decode from the channel list; fills the names/format fields of out. */
-static int make_plan(const exr_attr_chlist_t *chl, const char *name, plan *p, sl_envmap *out,
-                     const char **type_word, const char **layout, sl_err *e) {
+static int make_plan(const exr_attr_chlist_t *chl, const char *name, int with_alpha, plan *p,
+                     sl_envmap *out, const char **type_word, const char **layout, sl_err *e) {
     int idx[5] = {-1, -1, -1, -1, -1}; /* R G B A Y */
     static const char *want[5] = {"R", "G", "B", "A", "Y"};
     size_t used = 0;
@@ -377,8 +378,11 @@ static int make_plan(const exr_attr_chlist_t *chl, const char *name, plan *p, sl
     if (grey && idx[4] < 0)
         return sl_fail(e, "%s: OpenEXR: unsupported channel set (%s): need R,G,B[,A] or Y", name,
                        out->channel_names[0] ? out->channel_names : "none");
-    int sel[3] = {idx[0], idx[1], idx[2]};
-    p->nplanes = grey ? 1 : 3;
+    if (with_alpha && (grey || idx[3] < 0))
+        return sl_fail(e, "%s: OpenEXR: need channels R, G, B and A, the file has %s", name,
+                       out->channel_names[0] ? out->channel_names : "none");
+    int sel[4] = {idx[0], idx[1], idx[2], idx[3]};
+    p->nplanes = grey ? 1 : with_alpha ? 4 : 3;
     if (grey) sel[0] = idx[4];
     int nhalf = 0;
     for (int i = 0; i < p->nplanes; i++) {
@@ -396,8 +400,9 @@ static int make_plan(const exr_attr_chlist_t *chl, const char *name, plan *p, sl
     return 0;
 }
 
-int sl_envmap_decode_exr(const unsigned char *data, size_t n, const char *name, int force_cxx,
-                         sl_envmap *out, sl_err *e) {
+/* sl_envmap_decode_exr, and with with_alpha the A plane too, into *alpha (w*h, caller frees). */
+static int decode_exr(const unsigned char *data, size_t n, const char *name, int force_cxx,
+                      int with_alpha, sl_envmap *out, float **alpha, sl_err *e) {
     sl_err local;
     if (!e) e = &local;
     memset(out, 0, sizeof *out);
@@ -445,7 +450,7 @@ int sl_envmap_decode_exr(const unsigned char *data, size_t n, const char *name, 
     }
     plan p;
     const char *type_word = "", *layout = "";
-    if (make_plan(chl, name, &p, out, &type_word, &layout, e)) goto done;
+    if (make_plan(chl, name, with_alpha, &p, out, &type_word, &layout, e)) goto done;
     size_t np = (size_t)w * (size_t)h;
     planes = sl_calloc(np * (size_t)p.nplanes, sizeof(float));
     for (int i = 0; i < p.nplanes; i++)
@@ -477,7 +482,11 @@ int sl_envmap_decode_exr(const unsigned char *data, size_t n, const char *name, 
     out->rgb = sl_malloc(np * 3 * sizeof(float));
     for (size_t i = 0; i < np; i++)
         for (int c = 0; c < 3; c++)
-            out->rgb[3 * i + c] = p.planes[p.nplanes == 3 ? c : 0][i];
+            out->rgb[3 * i + c] = p.planes[p.nplanes >= 3 ? c : 0][i];
+    if (with_alpha) {
+        *alpha = sl_malloc(np * sizeof(float));
+        memcpy(*alpha, p.planes[3], np * sizeof(float));
+    }
     out->width = (int)w;
     out->height = (int)h;
     snprintf(out->format, sizeof out->format, "OpenEXR %s %s (%s%s)", type_word, layout,
@@ -487,4 +496,30 @@ done:
     free(planes);
     exr_finish(&ctx);
     return rc;
+}
+
+int sl_envmap_decode_exr(const unsigned char *data, size_t n, const char *name, int force_cxx,
+                         sl_envmap *out, sl_err *e) {
+    return decode_exr(data, n, name, force_cxx, 0, out, NULL, e);
+}
+
+int sl_exr_decode_rgba(const unsigned char *data, size_t n, const char *name, int *w, int *h,
+                       float **rgba, sl_err *e) {
+    sl_envmap m;
+    float *alpha = NULL;
+    *rgba = NULL;
+    *w = *h = 0;
+    if (decode_exr(data, n, name, 0, 1, &m, &alpha, e)) return -1;
+    size_t np = (size_t)m.width * (size_t)m.height;
+    *rgba = sl_malloc(4 * np * sizeof(float));
+    for (size_t i = 0; i < np; i++) {
+        for (int c = 0; c < 3; c++)
+            (*rgba)[4 * i + c] = m.rgb[3 * i + c];
+        (*rgba)[4 * i + 3] = alpha[i];
+    }
+    *w = m.width;
+    *h = m.height;
+    free(alpha);
+    sl_envmap_free(&m);
+    return 0;
 }

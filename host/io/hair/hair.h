@@ -56,6 +56,12 @@ int sl_hair_load_memory(const unsigned char *data, size_t size, const char *name
                         sl_err *e);
 void sl_hair_free(sl_hair *h);
 
+/* Writes h as a cyHair .hair file (atomically): segments, points, per-point thickness = 2 x radius
+ * (the format's diameter), and transparency / colours when h has them; `info` (may be NULL) fills
+ * the header's 88-byte text. A strand of more than 65536 points (the format's u16 segment count)
+ * is an error naming it. sl_hair_load reads the file back to the same strands and radii. */
+int sl_hair_write_cyhair(const char *path, const sl_hair *h, const char *info, sl_err *e);
+
 /* Individual parsers (sl_hair_load_memory dispatches to them). */
 int sl_hair_parse_cyhair(const unsigned char *d, size_t n, const char *name, sl_hair *out,
                          sl_err *e);

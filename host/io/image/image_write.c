@@ -34,14 +34,19 @@ static int check_channels(const char *path, int w, int h, const sl_exr_channel *
     return 0;
 }
 
+/* Depth is always stored as FLOAT: half's 11-bit mantissa would quantise a view depth of 120 to
+ * steps of 0.06 (docs/frame.md, "Outputs"). */
+static int channel_is_float(const sl_exr_channel *c, int use_float) {
+    return use_float || strcmp(c->name, "Z") == 0;
+}
+
 /* Encodes every chunk; the part header is already written. */
 static exr_result_t write_chunks(exr_context_t ctx, int w, int h, const sl_exr_channel *ch, int nch,
                                  int use_float) {
     int32_t lpc = 0;
     exr_result_t rv = exr_get_scanlines_per_chunk(ctx, 0, &lpc);
     if (rv != EXR_ERR_SUCCESS) return rv;
-    float *scratch =
-        use_float ? NULL : sl_malloc((size_t)nch * (size_t)lpc * (size_t)w * sizeof(float));
+    float *scratch = sl_malloc((size_t)nch * (size_t)lpc * (size_t)w * sizeof(float));
     exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
     int first = 1;
     for (int y = 0; y < h && rv == EXR_ERR_SUCCESS; y += lpc) {
@@ -62,7 +67,8 @@ static exr_result_t write_chunks(exr_context_t ctx, int w, int h, const sl_exr_c
                 break;
             }
             const float *src = ch[k].data + (size_t)y * (size_t)w;
-            if (!use_float) { /* clamp to the half range so no finite value becomes Inf */
+            if (!channel_is_float(&ch[k], use_float)) { /* clamp to the half range: no finite
+                                                          value becomes Inf */
                 float *dst = scratch + (size_t)k * (size_t)lpc * (size_t)w;
                 for (size_t i = 0; i < (size_t)lines * (size_t)w; i++) {
                     float v = src[i];
@@ -106,7 +112,9 @@ int sl_exr_write(const char *path, int w, int h, const sl_exr_channel *ch, int n
         if (rv == EXR_ERR_SUCCESS)
             rv = exr_initialize_required_attr_simple(ctx, 0, w, h, EXR_COMPRESSION_ZIP);
         for (int i = 0; i < nch && rv == EXR_ERR_SUCCESS; i++)
-            rv = exr_add_channel(ctx, 0, ch[i].name, use_float ? EXR_PIXEL_FLOAT : EXR_PIXEL_HALF,
+            rv = exr_add_channel(ctx, 0, ch[i].name,
+                                 channel_is_float(&ch[i], use_float) ? EXR_PIXEL_FLOAT
+                                                                     : EXR_PIXEL_HALF,
                                  EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1);
         if (rv == EXR_ERR_SUCCESS) rv = exr_write_header(ctx);
         if (rv == EXR_ERR_SUCCESS) {

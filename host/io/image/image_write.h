@@ -13,7 +13,8 @@ typedef struct {
 } sl_exr_channel;
 
 /* Writes a single-part scanline EXR with ZIP compression, data window = display window =
- * (0,0)-(w-1,h-1). Channels are stored HALF, or FLOAT when use_float is set. Half output
+ * (0,0)-(w-1,h-1). Channels are stored HALF, or FLOAT when use_float is set; a channel named "Z"
+ * (depth) is always FLOAT. Half output
  * clamps finite values to +-65504 (the largest half) instead of overflowing to Inf; NaN and
  * Inf pass through. Names must be non-empty, unique and at most 255 bytes; OpenEXR stores the
  * channels sorted by name whatever the order given. Returns 0 or -1 with e set. */

@@ -13,6 +13,7 @@
 #include "io/hair/hair.h"
 #include "io/image/image_write.h"
 #include "verify/reference/reference_frag.h"
+#include "verify/reference/ref_record.h"
 #include "render_ref.h"
 #include "render_ref_frag.h"
 #include "scene/scene_inputs.h"
@@ -113,31 +114,14 @@ static int prepare(const sl_scene *s, const sl_reference_settings *set, prep *p,
 }
 
 static uint64_t hash_doubles(const double *v, size_t n, uint64_t h) {
-    return sl_hash64(v, n * sizeof(double), h);
+    return sl_ref_hash_doubles(h, v, n);
 }
 
 static uint64_t compute_key(const sl_scene *s, const sl_reference_settings *set, const prep *p) {
     uint64_t h =
         sl_hash64(SL_REFERENCE_VERSION, strlen(SL_REFERENCE_VERSION), 1469598103934665603ull);
     const sl_hair *hr = &p->hair;
-    h = sl_hash64(hr->strand_first, (hr->num_strands + 1) * sizeof(uint32_t), h);
-    h = sl_hash64(hr->pos, (size_t)hr->num_points * 3 * sizeof(float), h);
-    if (hr->radius)
-        h = sl_hash64(hr->radius, (size_t)hr->num_points * sizeof(float), h);
-    else
-        h = sl_hash64(&hr->default_radius, sizeof(float), h);
-    h = sl_hash64(&p->map.hash, sizeof p->map.hash, h);
-    const sl_material *m = &s->material;
-    double mv[] = {m->model,      m->fresnel,     m->orders,       m->eta,
-                   m->alpha[0],   m->alpha[1],    m->alpha[2],     m->beta[0],
-                   m->beta[1],    m->beta[2],     m->sigma_a[0],   m->sigma_a[1],
-                   m->sigma_a[2], m->sigma_a_rgb, m->eccentricity, m->caustic_width};
-    h = hash_doubles(mv, sizeof mv / sizeof mv[0], h);
-    const sl_camera *c = &p->cam;
-    double cv[] = {c->eye[0],   c->eye[1],   c->eye[2], c->fwd[0], c->fwd[1],
-                   c->fwd[2],   c->up[0],    c->up[1],  c->up[2],  c->right[0],
-                   c->right[1], c->right[2], c->focal,  c->width,  c->height};
-    h = hash_doubles(cv, sizeof cv / sizeof cv[0], h);
+    h = sl_ref_content_hash(h, hr, p->map.hash, &s->material, &p->cam);
     if (set->fragments) {
         /* "fragments", K and what the view pass reads besides the geometry (transparency);
          * aa, seed and the light split do not enter (no camera rays) */
@@ -338,27 +322,9 @@ void sl_image_error_blocks(const float *x, const float *ref, int w, int h, int b
     free(cnt);
 }
 
-/* The EXR's integrity record in the JSON beside it: the EXR keeps its own format (other tools
- * read it), so its length and FNV-1a 64 (base/disk_cache.h) sit in "integrity"; a cached EXR
- * that does not match them (truncated, corrupt, replaced) is rendered again, not trusted. */
-typedef struct exr_digest {
-    uint64_t bytes, hash;
-} exr_digest;
-
-/* 1 when ref's "integrity" object is present and records d. */
-static int integrity_matches(const cJSON *ref, exr_digest d) {
-    const cJSON *in = cJSON_GetObjectItemCaseSensitive(ref, "integrity");
-    const cJSON *b = cJSON_GetObjectItemCaseSensitive(in, "exr_bytes");
-    const cJSON *h = cJSON_GetObjectItemCaseSensitive(in, "exr_fnv1a64");
-    char want[32];
-    snprintf(want, sizeof want, "%016llx", (unsigned long long)d.hash);
-    return cJSON_IsNumber(b) && b->valuedouble == (double)d.bytes && cJSON_IsString(h) &&
-           strcmp(h->valuestring, want) == 0;
-}
-
 /* The JSON beside the EXR: the key, settings, time, convergence and the EXR's digest. */
 static int write_json(const char *path, const sl_scene *s, const sl_reference_settings *set,
-                      const sl_reference_result *r, int w, int h, exr_digest d, sl_err *e) {
+                      const sl_reference_result *r, int w, int h, sl_ref_digest d, sl_err *e) {
     cJSON *root = cJSON_CreateObject(), *ref = cJSON_AddObjectToObject(root, "reference");
     char key[32];
     snprintf(key, sizeof key, "%016llx", (unsigned long long)r->key);
@@ -391,22 +357,8 @@ static int write_json(const char *path, const sl_scene *s, const sl_reference_se
         cJSON_AddNumberToObject(c, "rel_rmse_4x4", r->conv_rel_rmse_4x4);
         cJSON_AddNumberToObject(c, "time_2n_s", r->time_2n_s);
     }
-    cJSON *in = cJSON_AddObjectToObject(ref, "integrity");
-    char hash[32];
-    snprintf(hash, sizeof hash, "%016llx", (unsigned long long)d.hash);
-    cJSON_AddNumberToObject(in, "exr_bytes", (double)d.bytes);
-    cJSON_AddStringToObject(in, "exr_fnv1a64", hash);
-    char *text = cJSON_Print(root);
-    cJSON_Delete(root);
-    sl_atomic_file af;
-    int rc = -1;
-    if (sl_atomic_open(&af, path, e) == 0) {
-        fputs(text, af.fp);
-        fputc('\n', af.fp);
-        rc = sl_atomic_commit(&af, e);
-    }
-    free(text);
-    return rc;
+    sl_ref_integrity_add(ref, d);
+    return sl_ref_json_write(path, root, e);
 }
 
 /* 1 when path.json records this key (and a convergence when asked) and the EXR's digest; fills
@@ -428,9 +380,9 @@ static int read_cached(const char *json_path, const char *exr_path, uint64_t key
     if (cJSON_IsString(k) && strcmp(k->valuestring, want) == 0) {
         const cJSON *c = cJSON_GetObjectItemCaseSensitive(ref, "convergence");
         int usable = !conv || cJSON_IsObject(c);
-        exr_digest d;
+        sl_ref_digest d;
         if (usable && (sl_cache_file_hash(exr_path, &d.hash, &d.bytes, NULL) != 0 ||
-                       !integrity_matches(ref, d))) {
+                       !sl_ref_integrity_matches(ref, d))) {
             sl_warn("reference: %s does not match the digest in %s (corrupt, truncated or "
                     "written before digests); rendering it again",
                     exr_path, json_path);
@@ -527,7 +479,7 @@ int sl_reference_run(const sl_scene *s, const sl_reference_settings *set, const 
         res->has_convergence = 1;
     }
     if (sl_reference_write_exr(exr_path, &f, e)) goto done;
-    exr_digest d;
+    sl_ref_digest d;
     if (sl_cache_file_hash(exr_path, &d.hash, &d.bytes, e)) goto done;
     if (write_json(json_path, s, set, res, f.width, f.height, d, e)) goto done;
     rc = 0;
@@ -571,9 +523,9 @@ int sl_reference_load(const char *exr_path, sl_reference_frame *out, sl_err *e) 
     }
     /* a record without a digest predates them and is taken as it is; one with a digest must
      * match the EXR (a reference read back is what every error of a report is measured against) */
-    exr_digest d = {size, sl_cache_hash(data, size)};
+    sl_ref_digest d = {size, sl_cache_hash(data, size)};
     int has_digest = cJSON_GetObjectItemCaseSensitive(ref, "integrity") != NULL;
-    int digest_ok = !has_digest || integrity_matches(ref, d);
+    int digest_ok = !has_digest || sl_ref_integrity_matches(ref, d);
     cJSON_Delete(root);
     if (!digest_ok) {
         free(data);

@@ -166,3 +166,21 @@ TEST(imgw_png_roundtrip) {
         1e-6); /* float vs double evaluation */
     CHECK(sl_tonemap_srgb(NAN) == 0 && sl_tonemap_srgb(INFINITY) == 1);
 }
+
+/* "Z" is stored as FLOAT even in a half file: a depth of 120.03 survives (half: 120.0). */
+TEST(imgw_exr_depth_is_float) {
+    int w = 3, h = 2;
+    float z[6] = {120.03f, 1.0f / 3.0f, 1e6f, 0.5f, 7.0f, 65519.0f};
+    float r[6] = {0.25f, 0.5f, 1, 2, 4, 8};
+    const char *names[2] = {"R", "Z"};
+    sl_exr_channel ch[2] = {{names[0], r}, {names[1], z}};
+    char path[600];
+    tmp_path(path, sizeof path, "imgw_z.exr");
+    sl_err e;
+    CHECK(sl_exr_write(path, w, h, ch, 2, 0, &e) == 0);
+    float gr[6], gz[6];
+    float *planes[2] = {gr, gz};
+    CHECK(read_planes(path, w, h, 2, names, planes) == 0);
+    for (int i = 0; i < 6; i++)
+        CHECK_MSG(gz[i] == z[i] && gr[i] == r[i], "pixel %d: Z %.9g (want %.9g)", i, gz[i], z[i]);
+}

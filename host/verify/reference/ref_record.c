@@ -1,0 +1,71 @@
+/* ref_record.c: see ref_record.h. */
+#include "verify/reference/ref_record.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+uint64_t sl_ref_hash_doubles(uint64_t h, const double *v, size_t n) {
+    return sl_hash64(v, n * sizeof(double), h);
+}
+
+uint64_t sl_ref_content_hash(uint64_t h, const sl_hair *hr, uint64_t map_hash, const sl_material *m,
+                             const sl_camera *c) {
+    h = sl_hash64(hr->strand_first, (hr->num_strands + 1) * sizeof(uint32_t), h);
+    h = sl_hash64(hr->pos, (size_t)hr->num_points * 3 * sizeof(float), h);
+    if (hr->radius)
+        h = sl_hash64(hr->radius, (size_t)hr->num_points * sizeof(float), h);
+    else
+        h = sl_hash64(&hr->default_radius, sizeof(float), h);
+    h = sl_hash64(&map_hash, sizeof map_hash, h);
+    double mv[] = {m->model,      m->fresnel,     m->orders,       m->eta,
+                   m->alpha[0],   m->alpha[1],    m->alpha[2],     m->beta[0],
+                   m->beta[1],    m->beta[2],     m->sigma_a[0],   m->sigma_a[1],
+                   m->sigma_a[2], m->sigma_a_rgb, m->eccentricity, m->caustic_width};
+    h = sl_ref_hash_doubles(h, mv, sizeof mv / sizeof mv[0]);
+    double cv[] = {c->eye[0],   c->eye[1],   c->eye[2], c->fwd[0], c->fwd[1],
+                   c->fwd[2],   c->up[0],    c->up[1],  c->up[2],  c->right[0],
+                   c->right[1], c->right[2], c->focal,  c->width,  c->height};
+    return sl_ref_hash_doubles(h, cv, sizeof cv / sizeof cv[0]);
+}
+
+void sl_ref_integrity_add(cJSON *ref, sl_ref_digest d) {
+    cJSON *in = cJSON_AddObjectToObject(ref, "integrity");
+    char hash[32];
+    snprintf(hash, sizeof hash, "%016llx", (unsigned long long)d.hash);
+    cJSON_AddNumberToObject(in, "exr_bytes", (double)d.bytes);
+    cJSON_AddStringToObject(in, "exr_fnv1a64", hash);
+}
+
+int sl_ref_integrity_matches(const cJSON *ref, sl_ref_digest d) {
+    const cJSON *in = cJSON_GetObjectItemCaseSensitive(ref, "integrity");
+    const cJSON *b = cJSON_GetObjectItemCaseSensitive(in, "exr_bytes");
+    const cJSON *h = cJSON_GetObjectItemCaseSensitive(in, "exr_fnv1a64");
+    char want[32];
+    snprintf(want, sizeof want, "%016llx", (unsigned long long)d.hash);
+    return cJSON_IsNumber(b) && b->valuedouble == (double)d.bytes && cJSON_IsString(h) &&
+           strcmp(h->valuestring, want) == 0;
+}
+
+int sl_ref_json_write(const char *path, cJSON *root, sl_err *e) {
+    char *text = cJSON_Print(root);
+    cJSON_Delete(root);
+    if (!text) return sl_fail(e, "%s: cannot format the record", path);
+    sl_atomic_file af;
+    int rc = -1;
+    if (sl_atomic_open(&af, path, e) == 0) {
+        fputs(text, af.fp);
+        fputc('\n', af.fp);
+        rc = sl_atomic_commit(&af, e);
+    }
+    free(text);
+    return rc;
+}
+
+cJSON *sl_ref_json_read(const char *path) {
+    unsigned char *data = NULL;
+    size_t size = 0;
+    if (sl_read_file(path, &data, &size, 1 << 20, NULL)) return NULL;
+    cJSON *root = cJSON_ParseWithLength((const char *)data, size);
+    free(data);
+    return root;
+}

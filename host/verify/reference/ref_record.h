@@ -1,0 +1,41 @@
+/* ref_record.h: what both reference renders (pixel/fragment mode, reference.c, and the path
+ * tracer, reference_path.c) record beside their EXR and key their caches by: the content hash
+ * of a scene's inputs (hair, map, material, camera; not file names), the EXR's integrity record
+ * in the JSON (its length and FNV-1a 64: a cached EXR that does not match is rendered again),
+ * and the atomic JSON write. */
+#ifndef SL_REF_RECORD_H
+#define SL_REF_RECORD_H
+
+#include "base/common.h"
+#include "io/hair/hair.h"
+#include "scene/camera.h"
+#include "scene/material.h"
+
+#include <cjson/cJSON.h>
+#include <stdint.h>
+
+/* FNV-1a 64 continued from h over the loaded hair (offsets, positions, radii), the decoded
+ * map's pixel hash, the material's values and the camera actually used. */
+uint64_t sl_ref_content_hash(uint64_t h, const sl_hair *hair, uint64_t map_hash,
+                             const sl_material *m, const sl_camera *cam);
+
+/* n doubles into the hash (settings). */
+uint64_t sl_ref_hash_doubles(uint64_t h, const double *v, size_t n);
+
+/* The EXR's digest. */
+typedef struct sl_ref_digest {
+    uint64_t bytes, hash;
+} sl_ref_digest;
+
+/* Adds "integrity": {"exr_bytes", "exr_fnv1a64"} to the record object ref. */
+void sl_ref_integrity_add(cJSON *ref, sl_ref_digest d);
+/* 1 when ref's "integrity" object is present and records d. */
+int sl_ref_integrity_matches(const cJSON *ref, sl_ref_digest d);
+
+/* Prints root (deleted here) to path atomically. Returns 0 or -1 with e set. */
+int sl_ref_json_write(const char *path, cJSON *root, sl_err *e);
+
+/* Reads and parses a JSON record of at most 1 MiB; NULL when missing or malformed. */
+cJSON *sl_ref_json_read(const char *path);
+
+#endif
