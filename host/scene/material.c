@@ -46,13 +46,6 @@ void sl_material_default(sl_material *m) {
     chiang_default(&m->chiang);
 }
 
-const char *sl_material_model_name(int model) {
-    return model == SL_MODEL_MARSCHNER ? "marschner"
-           : model == SL_MODEL_DEON    ? "deon"
-           : model == SL_MODEL_CHIANG  ? "chiang"
-                                       : "?";
-}
-
 /* Cycles' Principled Hair mappings (numerics.md sec. 3). */
 double sl_chiang_variance(double bl) {
     double b2 = bl * bl, b4 = b2 * b2, b8 = b4 * b4, b16 = b8 * b8;

@@ -68,8 +68,6 @@ const char *sl_material_model_name(int model);
 
 /* The defaults of numerics.md section 2. */
 void sl_material_default(sl_material *m);
-/* "marschner", "deon" or "chiang" (the JSON name of an SL_MODEL_*; "?" for another value). */
-const char *sl_material_model_name(int model);
 
 /* One colour channel (0 r, 1 g, 2 b; sigma_a[channel]) of m in float for the C twin and the
  * OpenCL kernels. */
