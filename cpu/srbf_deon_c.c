@@ -5,7 +5,7 @@
 
 void slc_srbf_deon_batch(const sl_fiber_params *fp, const float *C, const float *H, const float *D,
                          size_t n, const float *in, float *out) {
-    int no = fp->orders > SL_DEON_MAX_ORDERS ? SL_DEON_MAX_ORDERS : fp->orders;
+    int no = sl_srbf_deon_orders(fp);
     size_t stride = (size_t)no + 3;
     float o[SL_SRBF_DEON_NOUT];
     for (size_t r = 0; r < n; r++) {

@@ -14,7 +14,7 @@ __kernel void sl_srbf_deon_eval(const sl_fiber_params fp_arg, const uint n,
     size_t i = get_global_id(0);
     if (i >= n) return;
     sl_fiber_params fp = fp_arg;
-    int no = fp.orders > SL_DEON_MAX_ORDERS ? SL_DEON_MAX_ORDERS : fp.orders;
+    int no = sl_srbf_deon_orders(&fp);
     __global const float *r = in + 5 * i;
     float o[SL_SRBF_DEON_NOUT];
     sl_srbf_deon(&fp, C, H, D, r[0], r[1], r[2], r[3], r[4], o);

@@ -66,6 +66,16 @@ static void fill_model(const view_app *a, sl_ui_model *m) {
         m->eumelanin = cJSON_IsNumber(eu) ? eu->valuedouble : 0.0;
         m->pheomelanin = cJSON_IsNumber(ph) ? ph->valuedouble : 0.0;
     }
+    const sl_chiang *ch = &mt->chiang;
+    m->chiang_sigma = ch->sigma_a_given;
+    m->melanin = ch->melanin;
+    m->melanin_redness = ch->melanin_redness;
+    for (int t = 0; t < 3; t++)
+        m->tint[t] = ch->tint[t];
+    m->roughness = ch->roughness;
+    m->radial_roughness = ch->radial_roughness;
+    m->coat = ch->coat;
+    m->offset_deg = ch->offset * deg;
     m->eccentricity = mt->eccentricity;
     m->caustic_width_deg = mt->caustic_width * deg;
     m->lobes = s->lobes;

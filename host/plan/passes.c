@@ -144,7 +144,9 @@ void sl_frame_hash_inputs(const sl_frame_inputs *in, uint64_t *dh) {
     m = sl_hash64(mat->beta, sizeof mat->beta, m);
     m = sl_hash64(mat->sigma_a, sizeof mat->sigma_a, m);
     m = sl_hash64(&mat->eccentricity, sizeof mat->eccentricity, m);
-    dh[SL_DATA_MATERIAL] = sl_hash64(&mat->caustic_width, sizeof mat->caustic_width, m);
+    m = sl_hash64(&mat->caustic_width, sizeof mat->caustic_width, m);
+    /* chiang: the logistic scale (its other parameters reach alpha, beta and sigma_a) */
+    dh[SL_DATA_MATERIAL] = sl_hash64(&mat->logistic_s, sizeof mat->logistic_s, m);
     dh[SL_DATA_CAMERA] = sl_hash64(in->cam, sizeof *in->cam, 0x44);
 }
 

@@ -57,7 +57,9 @@ static int plan_srbf(sl_renderer *r, const sl_material *mat, double rows, double
     if (mat->model != SL_MODEL_MARSCHNER && m == SL_RENDER_SRBF_AUTO) {
         r->srbf_used = SL_SRBF_METHOD_FAST;
         snprintf(r->srbf_why, sizeof r->srbf_why,
-                 "auto: fast (model deon: the d'Eon fast path; no table for it)");
+                 "auto: fast (model %s: the d'Eon fast path%s; no table for it)",
+                 sl_material_model_name(mat->model),
+                 mat->model == SL_MODEL_CHIANG ? " with Chiang's azimuth" : "");
         r->rec_state = SL_PASS_SKIPPED;
         sl_frame_why(r, "no table: %s", r->srbf_why);
         return 0;

@@ -193,6 +193,31 @@ static int adopt(sl_viewer *v, cJSON *doc, sl_err *e) {
     return 0;
 }
 
+/* After material.model was set to val: delete the material keys that model lacks. */
+static void model_keys(cJSON *doc, const cJSON *val) {
+    static const char *const lobe_keys[] = {"alpha_R_deg",
+                                            "beta_R_deg",
+                                            "alpha_TT_deg",
+                                            "beta_TT_deg",
+                                            "alpha_TRT_deg",
+                                            "beta_TRT_deg",
+                                            "eccentricity",
+                                            "caustic_width_deg",
+                                            "fresnel",
+                                            "orders",
+                                            NULL};
+    static const char *const chiang_keys[] = {
+        "melanin_redness", "tint", "roughness", "radial_roughness", "coat", "offset_deg", NULL};
+    cJSON *mat = cJSON_GetObjectItemCaseSensitive(doc, "material");
+    const cJSON *mel = cJSON_GetObjectItemCaseSensitive(mat, "melanin");
+    int chiang = cJSON_IsString(val) && val->valuestring && strcmp(val->valuestring, "chiang") == 0;
+    for (const char *const *k = chiang ? lobe_keys : chiang_keys; *k; k++)
+        del(doc, "material", *k);
+    /* melanin is an object (eumelanin, pheomelanin) for marschner / deon, a number for chiang */
+    if (mel && (chiang ? !cJSON_IsNumber(mel) : cJSON_IsNumber(mel)))
+        del(doc, "material", "melanin");
+}
+
 int sl_viewer_set(sl_viewer *v, const char *key, const char *value, sl_err *e) {
     cJSON *doc = cJSON_Duplicate(v->doc, 1);
     char leaf[128];
@@ -206,8 +231,16 @@ int sl_viewer_set(sl_viewer *v, const char *key, const char *value, sl_err *e) {
     if (!val) val = cJSON_CreateString(value);
     put(obj, leaf, val);
     /* keys that exclude each other: the newer one wins */
-    if (strcmp(key, "material.sigma_a") == 0) del(doc, "material", "melanin");
-    if (strncmp(key, "material.melanin", 16) == 0) del(doc, "material", "sigma_a");
+    if (strcmp(key, "material.sigma_a") == 0) {
+        del(doc, "material", "melanin");
+        del(doc, "material", "melanin_redness"); /* chiang's pigment keys */
+        del(doc, "material", "tint");
+    }
+    if (strncmp(key, "material.melanin", 16) == 0 || strcmp(key, "material.tint") == 0)
+        del(doc, "material", "sigma_a");
+    /* a model switch drops the keys the new model does not have (numerics.md sec. 2: chiang's
+     * keys and the marschner / deon lobe keys are errors in each other's materials) */
+    if (strcmp(key, "material.model") == 0) model_keys(doc, val);
     if (strcmp(key, "hair.file") == 0) del(doc, "hair", "procedural");
     if (strncmp(key, "hair.procedural", 15) == 0) del(doc, "hair", "file");
     if (strcmp(key, "environment.file") == 0) del(doc, "environment", "lobes");

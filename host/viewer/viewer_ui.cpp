@@ -47,6 +47,59 @@ void rgb(sl_ui_actions *a, const char *label, const char *key, double *v) {
     }
 }
 
+// The marschner / deon keys: Fresnel, eta, the lobes' shifts and widths, absorption.
+void lobe_panel(sl_ui_model *m, sl_ui_actions *a) {
+    const char *fres[] = {"exact", "schlick"};
+    if (ImGui::Combo("fresnel", &m->fresnel, fres, 2))
+        add_edit_str(a, "material.fresnel", fres[m->fresnel]);
+    dbl(a, "eta", "material.eta", &m->eta, 0.005f, 1.0001, 4.0);
+    static const char *const ak[3] = {"material.alpha_R_deg", "material.alpha_TT_deg",
+                                      "material.alpha_TRT_deg"};
+    static const char *const bk[3] = {"material.beta_R_deg", "material.beta_TT_deg",
+                                      "material.beta_TRT_deg"};
+    static const char *const an[3] = {"alpha R", "alpha TT", "alpha TRT"};
+    static const char *const bn[3] = {"beta R", "beta TT", "beta TRT"};
+    for (int t = 0; t < 3; t++)
+        dbl(a, an[t], ak[t], &m->alpha_deg[t], 0.1f, -45.0, 45.0);
+    for (int t = 0; t < 3; t++)
+        dbl(a, bn[t], bk[t], &m->beta_deg[t], 0.1f, 0.05, 60.0);
+    if (m->has_melanin) {
+        dbl(a, "eumelanin", "material.melanin.eumelanin", &m->eumelanin, 0.01f, 0.0, 20.0);
+        dbl(a, "pheomelanin", "material.melanin.pheomelanin", &m->pheomelanin, 0.01f, 0.0, 20.0);
+    } else {
+        rgb(a, "sigma_a", "material.sigma_a", m->sigma_a);
+    }
+    dbl(a, "eccentricity", "material.eccentricity", &m->eccentricity, 0.005f, 0.5, 2.0);
+    dbl(a, "w_c (deg)", "material.caustic_width_deg", &m->caustic_width_deg, 0.1f, 0.5, 60.0);
+    if (m->model == 1) integer(a, "orders", "material.orders", &m->orders, 2, 32);
+}
+
+// Model chiang's keys (numerics.md sec. 2); sigma_a when the material gives it, else the
+// pigments (editing either switches the document to it: viewer_doc.c keeps one of the two).
+void chiang_panel(sl_ui_model *m, sl_ui_actions *a) {
+    dbl(a, "eta", "material.eta", &m->eta, 0.005f, 1.0001, 4.0);
+    if (m->chiang_sigma) {
+        rgb(a, "sigma_a", "material.sigma_a", m->sigma_a);
+    } else {
+        dbl(a, "melanin", "material.melanin", &m->melanin, 0.005f, 0.0, 1.0);
+        dbl(a, "redness", "material.melanin_redness", &m->melanin_redness, 0.005f, 0.0, 1.0);
+        double lo = 0.001, hi = 1.0;
+        if (ImGui::DragScalarN("tint", ImGuiDataType_Double, m->tint, 3, 0.005f, &lo, &hi,
+                               "%.3f") &&
+            a->nedit < SL_UI_MAX_EDITS) {
+            sl_ui_edit *e = &a->edit[a->nedit++];
+            std::snprintf(e->key, sizeof e->key, "material.tint");
+            std::snprintf(e->value, sizeof e->value, "[%.9g, %.9g, %.9g]", m->tint[0], m->tint[1],
+                          m->tint[2]);
+        }
+    }
+    dbl(a, "roughness", "material.roughness", &m->roughness, 0.005f, 0.001, 1.0);
+    dbl(a, "radial roughness", "material.radial_roughness", &m->radial_roughness, 0.005f, 0.001,
+        1.0);
+    dbl(a, "coat", "material.coat", &m->coat, 0.005f, 0.0, 0.999);
+    dbl(a, "offset (deg)", "material.offset_deg", &m->offset_deg, 0.05f, -45.0, 45.0);
+}
+
 const char *state_name(int s) {
     return s == 0 ? "run" : s == 1 ? "cached" : "skipped";
 }
@@ -90,33 +143,13 @@ extern "C" void sl_ui_frame(sl_ui_model *m, sl_ui_actions *a, int panel_x) {
     if (m->status[0]) ImGui::TextWrapped("%s", m->status);
 
     if (ImGui::CollapsingHeader("Material", ImGuiTreeNodeFlags_DefaultOpen)) {
-        const char *models[] = {"marschner", "deon"};
-        if (ImGui::Combo("model", &m->model, models, 2))
+        const char *models[] = {"marschner", "deon", "chiang"};
+        if (ImGui::Combo("model", &m->model, models, 3))
             add_edit_str(a, "material.model", models[m->model]);
-        const char *fres[] = {"exact", "schlick"};
-        if (ImGui::Combo("fresnel", &m->fresnel, fres, 2))
-            add_edit_str(a, "material.fresnel", fres[m->fresnel]);
-        dbl(a, "eta", "material.eta", &m->eta, 0.005f, 1.0001, 4.0);
-        static const char *const ak[3] = {"material.alpha_R_deg", "material.alpha_TT_deg",
-                                          "material.alpha_TRT_deg"};
-        static const char *const bk[3] = {"material.beta_R_deg", "material.beta_TT_deg",
-                                          "material.beta_TRT_deg"};
-        static const char *const an[3] = {"alpha R", "alpha TT", "alpha TRT"};
-        static const char *const bn[3] = {"beta R", "beta TT", "beta TRT"};
-        for (int t = 0; t < 3; t++)
-            dbl(a, an[t], ak[t], &m->alpha_deg[t], 0.1f, -45.0, 45.0);
-        for (int t = 0; t < 3; t++)
-            dbl(a, bn[t], bk[t], &m->beta_deg[t], 0.1f, 0.05, 60.0);
-        if (m->has_melanin) {
-            dbl(a, "eumelanin", "material.melanin.eumelanin", &m->eumelanin, 0.01f, 0.0, 20.0);
-            dbl(a, "pheomelanin", "material.melanin.pheomelanin", &m->pheomelanin, 0.01f, 0.0,
-                20.0);
-        } else {
-            rgb(a, "sigma_a", "material.sigma_a", m->sigma_a);
-        }
-        dbl(a, "eccentricity", "material.eccentricity", &m->eccentricity, 0.005f, 0.5, 2.0);
-        dbl(a, "w_c (deg)", "material.caustic_width_deg", &m->caustic_width_deg, 0.1f, 0.5, 60.0);
-        if (m->model == 1) integer(a, "orders", "material.orders", &m->orders, 2, 32);
+        if (m->model == 2) /* chiang: Blender's Principled Hair parameters */
+            chiang_panel(m, a);
+        else
+            lobe_panel(m, a);
     }
     if (ImGui::CollapsingHeader("Quality", ImGuiTreeNodeFlags_DefaultOpen)) {
         integer(a, "lobes", "quality.lobes", &m->lobes, 1, 200);

@@ -1,5 +1,5 @@
-/* viewer_ui.h: the C interface of the viewer's Dear ImGui panel (host/viewer/viewer_ui.cpp, the only
- * C++ of the viewer). The viewer fills an sl_ui_model with what the panel shows; the panel
+/* viewer_ui.h: the C interface of the viewer's Dear ImGui panel (host/viewer/viewer_ui.cpp, the
+ * only C++ of the viewer). The viewer fills an sl_ui_model with what the panel shows; the panel
  * returns what the user changed as `set KEY VALUE` edits and button presses, which the viewer
  * applies through the same functions as a script (host/viewer/viewer.h). Plain C types only, so the
  * C++ side never sees the renderer's headers. */
@@ -24,13 +24,16 @@ typedef struct sl_ui_pass {
 
 typedef struct sl_ui_model {
     /* material (numerics.md sec. 2), degrees where the key says _deg */
-    int model;   /* 0 marschner, 1 deon */
+    int model;   /* 0 marschner, 1 deon, 2 chiang */
     int fresnel; /* 0 exact, 1 schlick */
     int orders;
     double eta, alpha_deg[3], beta_deg[3], sigma_a[3];
     int has_melanin;
     double eumelanin, pheomelanin;
     double eccentricity, caustic_width_deg;
+    /* model chiang: the Principled Hair parameters (sigma_a above when given instead) */
+    int chiang_sigma; /* 1: the material gives sigma_a, not melanin / redness / tint */
+    double melanin, melanin_redness, tint[3], roughness, radial_roughness, coat, offset_deg;
     /* quality */
     int lobes, layers, segments_m, voxels, oit_layers, ms; /* ms: 0 auto, 1 on, 2 off */
     double kappa;

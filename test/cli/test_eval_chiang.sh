@@ -70,12 +70,12 @@ for be_tol in reference:1e-6 c:1e-4; do
     furnace_check "eval_chiang_furnace_$be" "$D/furn.$be" "$tol"
 done
 
-# srbf: the exact reference has d'Eon's layout (I_0, I_1, I_2, I_rest, I); c and opencl have no
-# chiang closed form yet and say so
+# srbf: the exact reference has d'Eon's layout (I_0, I_1, I_2, I_rest, I), and so has the c
+# backend's fast path (docs/srbf.md, "Chiang fast path"; its checks: test_srbf_chiang.sh)
 printf 'theta_o,phi_o,theta_j,phi_j,lambda\n0.4,0.3,-0.2,2.5,0.3\n' > "$D/srbf.csv"
 expect_output eval_chiang_srbf_reference "lambda,I_0_r,I_1_r,I_2_r,I_rest_r,I_r,I_0_g" \
     ev "$D/srbf.csv" srbf --backend reference --method exact --material "$D/chiang.json"
-expect_error eval_chiang_srbf_c "srbf with model chiang: --backend reference --method exact only" \
+expect_output eval_chiang_srbf_c "lambda,I_0_r,I_1_r,I_2_r,I_rest_r,I_r,I_0_g" \
     ev "$D/srbf.csv" srbf --backend c --material "$D/chiang.json"
 printf 'theta_d\n0.1\n' > "$D/td.csv"
 expect_error eval_chiang_ms_material "ms-material: model chiang is not supported yet" \

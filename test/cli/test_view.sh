@@ -41,6 +41,7 @@ sed -i 's/"multiple_scattering": "off", //; s/"fov_deg": 30/"fov_deg": 40/' "$D/
 MAT_ALL='"eta": 1.6, "alpha_R_deg": -5, "beta_R_deg": 9, "alpha_TT_deg": 3, "beta_TT_deg": 6, "alpha_TRT_deg": -8, "beta_TRT_deg": 14, "melanin": {"eumelanin": 0.3, "pheomelanin": 0.1}, "eccentricity": 0.9, "caustic_width_deg": 20'
 scene exp_marschner "$PROC" "{$MAT_ALL, \"fresnel\": \"schlick\"}" "" "" ""
 scene exp_deon "$PROC" '{"sigma_a": [0.2, 0.35, 0.6], "beta_R_deg": 9, "model": "deon", "orders": 4}' "" "" ""
+scene exp_chiang "$PROC" '{"model": "chiang", "melanin": 0.3, "radial_roughness": 0.5, "offset_deg": 3}' "" "" ""
 # every strand at the brush's sigma_a: tells whether the shading pass honours per-strand sigma_a
 scene exp_probe "$PROC" '{"sigma_a": [0.2, 0.35, 0.6], "beta_R_deg": 10, "strand_sigma_a": "probe.csv"}' "" "" ""
 { echo "strand,sigma_a_r,sigma_a_g,sigma_a_b"; for i in $(seq 0 399); do echo "$i,0.02,1.5,4"; done; } > "$D/probe.csv"
@@ -243,6 +244,10 @@ if ! out=$("$SL" render "$D/exp_deon.json" --device c --exr "$D/exp_deon.exr" --
     fail view_material_deon "render does not draw model deon: $(printf '%s' "$out" | tail -1)"
 elif ! view deon.txt; then fail view_material_deon "exit: $(tail -1 "$D/deon.txt.err")"
 else same view_material_deon "$D/deon.png" "$D/exp_deon.png"; fi
+if ! out=$("$SL" render "$D/exp_chiang.json" --device c --exr "$D/exp_chiang.exr" --png "$D/exp_chiang.png" 2>&1); then
+    fail view_material_chiang "render does not draw model chiang: $(printf '%s' "$out" | tail -1)"
+elif ! view chiang.txt; then fail view_material_chiang "exit: $(tail -1 "$D/chiang.txt.err")"
+else same view_material_chiang "$D/chiang.png" "$D/exp_chiang.png"; fi
 
 # script errors name the file and line; the viewer exits 1 with one line
 for b in bad_command:"bad_command.txt:3: unknown command \"frobnicate\"" \

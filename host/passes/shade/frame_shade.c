@@ -175,13 +175,13 @@ static void build_rows(const shade_common *sc, size_t i0, size_t i1, rowbuf *b) 
     }
 }
 
-/* The closed-form RGB response of n rows on the C twins: Marschner (fast or xu) or, for model
- * deon, the d'Eon fast path (9 floats per row: order 0, order 1, orders >= 2 + rest, as R, TT,
- * TRT). */
+/* The closed-form RGB response of n rows on the C twins: Marschner (fast or xu) or, for models
+ * deon and chiang, the d'Eon fast path (kernels/srbf_deon.h, srbf_chiang.h; 9 floats per row:
+ * order 0, order 1, orders >= 2 + rest, as R, TT, TRT). */
 static void closed_form_c(const shade_common *sc, size_t n, const float *in, const float *sig,
                           float *res) {
     const sl_shade_env *r = sc->env;
-    if (sc->fp.model == SL_MODEL_DEON)
+    if (sc->fp.model != SL_MODEL_MARSCHNER)
         slc_srbf_deon_rgb_batch(&sc->fp, r->tables->C, r->tables->H, r->tables->D, n, in, sig, res);
     else
         slc_srbf_rgb_batch(&sc->fp, r->tables->C, r->tables->H, sc->method, r->segments, n, in,
@@ -214,7 +214,7 @@ static int eval_rows_cl(const shade_common *sc, rowbuf *b, sl_err *e) {
     float *cres = sc->table ? b->fres : b->res;
     size_t nc = sc->table ? b->nf : b->nr;
     int k = 0;
-    if (nc && sc->fp.model == SL_MODEL_DEON)
+    if (nc && sc->fp.model != SL_MODEL_MARSCHNER)
         k = slcl_srbf_deon_rgb_batch(r->dev->cl, &sc->fp, r->tables, nc, cin, csig, cres, e);
     else if (nc)
         k = slcl_srbf_rgb_batch(r->dev->cl, &sc->fp, r->tables, sc->method, r->segments, nc, cin,

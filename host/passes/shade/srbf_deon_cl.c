@@ -7,7 +7,7 @@
 
 int slcl_srbf_deon_batch(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_tables *t, size_t n,
                          const float *in, float *out, sl_err *e) {
-    int no = fp->orders > SL_DEON_MAX_ORDERS ? SL_DEON_MAX_ORDERS : fp->orders;
+    int no = sl_srbf_deon_orders(fp);
     size_t stride = (size_t)no + 3;
     /* sl_srbf_deon_eval(fp, n, in, out, C, H, D) */
     const size_t size[] = {n * 5, n * stride, SL_SRBF_C_FLOATS, SL_SRBF_H_FLOATS,

@@ -402,8 +402,10 @@ int sl_srbf_ren_get(sl_device *dev, const sl_material *m, const sl_srbf_ren_para
     else
         sl_srbf_ren_params_default(&p);
     if (m->model != SL_MODEL_MARSCHNER)
-        return sl_fail(e, "srbf table: only model marschner is implemented (the fast path it is "
-                          "built from has no deon yet)");
+        return sl_fail(e,
+                       "srbf table: model %s has no precomputed table (only model marschner is "
+                       "implemented; %s shades with --method fast)",
+                       sl_material_model_name(m->model), sl_material_model_name(m->model));
     for (int k = 0; k < 3; k++)
         if (!(m->beta[k] > 0.0))
             return sl_fail(e, "srbf table: beta[%d] must be > 0 (got %g)", k, m->beta[k]);

@@ -6,8 +6,9 @@
  * Gaussian's centre and shoulders, the kink of |cos^k| at x = phi - pi; h = sin u for H, which
  * removes the square-root behaviour of F at |h| = 1): about 1e-12 relative. The fast paths'
  * W weights (Marschner: TT, TRT, R in H; d'Eon: orders 3..8 and R's Fresnel fit in D,
- * kernels/srbf_deon.h) are exact Fourier-space convolutions of a root-sum histogram. `eval
- * srbf` with model deon goes to the d'Eon fast path (--method xu is refused for it). */
+ * kernels/srbf_deon.h) are exact Fourier-space convolutions of a root-sum histogram; model
+ * chiang's harmonic tables, also in D, are built by srbf_chiang_tables.c. `eval srbf` with
+ * model deon or chiang goes to the d'Eon fast path (--method xu is refused for them). */
 #include "passes/shade/srbf_tables.h"
 
 #include "base/disk_cache.h"
@@ -506,6 +507,10 @@ void sl_srbf_tables_build(sl_srbf_tables *t) {
     double t2 = sl_now();
     build_W(t->H, t->D, &t->err_W, &t->err_D);
     build_fresnel_fit(t->D + SL_SRBF_DEON_FIT_OFF);
+    double ech[2];
+    sl_srbf_chiang_tables_build(t->D, ech);
+    t->err_Ch_x = ech[0];
+    t->err_Ch_s = ech[1];
     t->build_s_W = sl_now() - t2;
 }
 
@@ -520,26 +525,29 @@ void sl_srbf_tables_free(sl_srbf_tables *t) {
 
 /* The payload: build times and errors, then C, H and D as floats (base/disk_cache.h adds the key
  * and the integrity hash). Bump when this layout changes; the contents are tables_key's. */
-#define TABLES_FORMAT 4u
+#define TABLES_FORMAT 5u
 
 typedef struct tables_meta {
-    double build_s_C, build_s_H, err_C, err_H, build_s_W, err_W, err_D;
+    double build_s_C, build_s_H, err_C, err_H, build_s_W, err_W, err_D, err_Ch_x, err_Ch_s;
 } tables_meta;
 
 /* Hash of everything that defines the tables' contents. */
 static uint64_t tables_key(void) {
     char def[1024];
-    snprintf(def, sizeof def,
-             "strandlight srbf tables v2 (W with R): C_k normalised k0..6 NL=%d NPHI=%d "
-             "lam=[%.9g,%.9g] log, "
-             "phi=[0,pi]; H_k TT/TRT exact/schlick NETA=%d NTD=%d eta=[%.9g,%.9g] log, td=[0,pi/2];"
-             " GL%d; W TT/TRT NX=%d NL=%d NP=%d nodes=%d lam=[%.9g,..] c-Chebyshev, hist NB=%d"
-             " NS=%d; d'Eon W p=3..%d same grid, orders interleaved per point; R Fresnel LSQ deg 5"
-             " NETA=%d",
-             SL_SRBF_NL, SL_SRBF_NPHI, (double)SL_SRBF_LMIN, (double)SL_SRBF_LMAX, SL_SRBF_NETA,
-             SL_SRBF_NTD, (double)SL_SRBF_ETAMIN, (double)SL_SRBF_ETAMAX, NGL, SL_SRBF_W_NX,
-             SL_SRBF_W_NL, SL_SRBF_W_NP, SL_SRBF_W_NODES, (double)SL_SRBF_W_LMIN, W_NB, W_NS,
-             SL_SRBF_DEON_MAX_P, SL_SRBF_DEON_FIT_NETA);
+    snprintf(
+        def, sizeof def,
+        "strandlight srbf tables v3 (W with R; chiang 8 nodes): C_k normalised k0..6 NL=%d NPHI=%d "
+        "lam=[%.9g,%.9g] log, "
+        "phi=[0,pi]; H_k TT/TRT exact/schlick NETA=%d NTD=%d eta=[%.9g,%.9g] log, td=[0,pi/2];"
+        " GL%d; W TT/TRT NX=%d NL=%d NP=%d nodes=%d lam=[%.9g,..] c-Chebyshev, hist NB=%d"
+        " NS=%d; d'Eon W p=3..%d same grid, orders interleaved per point; R Fresnel LSQ deg 5"
+        " NETA=%d; chiang harmonics n<=%d NX=%d, R, |cos|^k, trimmed logistic NS=%d"
+        " s=[%.9g,%.9g] log",
+        SL_SRBF_NL, SL_SRBF_NPHI, (double)SL_SRBF_LMIN, (double)SL_SRBF_LMAX, SL_SRBF_NETA,
+        SL_SRBF_NTD, (double)SL_SRBF_ETAMIN, (double)SL_SRBF_ETAMAX, NGL, SL_SRBF_W_NX,
+        SL_SRBF_W_NL, SL_SRBF_W_NP, SL_SRBF_W_NODES, (double)SL_SRBF_W_LMIN, W_NB, W_NS,
+        SL_SRBF_DEON_MAX_P, SL_SRBF_DEON_FIT_NETA, SL_SRBF_CH_NH, SL_SRBF_CH_NX, SL_SRBF_CH_NS,
+        (double)SL_SRBF_CH_SMIN, (double)SL_SRBF_CH_SMAX);
     return sl_hash64(def, strlen(def), 0x5352424654424c31ull);
 }
 
@@ -572,6 +580,8 @@ static int try_load(sl_srbf_tables *t, const char *path, uint64_t key) {
     t->build_s_W = h.build_s_W;
     t->err_W = h.err_W;
     t->err_D = h.err_D;
+    t->err_Ch_x = h.err_Ch_x;
+    t->err_Ch_s = h.err_Ch_s;
     t->from_cache = 1;
     return 0;
 }
@@ -586,6 +596,8 @@ static void save(const sl_srbf_tables *t, const char *path, uint64_t key) {
     h.build_s_W = t->build_s_W;
     h.err_W = t->err_W;
     h.err_D = t->err_D;
+    h.err_Ch_x = t->err_Ch_x;
+    h.err_Ch_s = t->err_Ch_s;
     sl_cache_part parts[4] = {{&h, sizeof h},
                               {t->C, SL_SRBF_C_FLOATS * sizeof(float)},
                               {t->H, SL_SRBF_H_FLOATS * sizeof(float)},
@@ -611,11 +623,11 @@ int sl_srbf_tables_get(sl_srbf_tables *t, int verbose, sl_err *e) {
         sl_note(
             "srbf tables built: C_k %dx%d in %.2f s (max interpolation error %.2g), H_k "
             "2x2x%dx%d in %.2f s (max error %.2g of max H_0), W 2x%dx%dx%d in %.2f s (max error "
-            "%.2g of max W; d'Eon slices p=3..%d: %.2g)%s%s",
+            "%.2g of max W; d'Eon slices p=3..%d: %.2g; chiang harmonics %.2g, detector %.2g)%s%s",
             SL_SRBF_NL, SL_SRBF_NPHI, t->build_s_C, t->err_C, SL_SRBF_NETA, SL_SRBF_NTD,
             t->build_s_H, t->err_H, SL_SRBF_W_NX, SL_SRBF_W_NL, SL_SRBF_W_NP, t->build_s_W,
-            t->err_W, SL_SRBF_DEON_MAX_P, t->err_D, t->path[0] ? "; cached in " : "; not cached",
-            t->path);
+            t->err_W, SL_SRBF_DEON_MAX_P, t->err_D, t->err_Ch_x, t->err_Ch_s,
+            t->path[0] ? "; cached in " : "; not cached", t->path);
     if (t->path[0]) save(t, t->path, key);
     return 0;
 }
@@ -624,13 +636,17 @@ int sl_srbf_tables_get(sl_srbf_tables *t, int verbose, sl_err *e) {
 
 int sl_srbf_eval(sl_cl *cl, const sl_material *m, int ch, int xu, int segments, size_t n,
                  const float *in, float *out, sl_err *e) {
-    if (m->model == SL_MODEL_DEON) {
+    if (m->model != SL_MODEL_MARSCHNER) {
         /* Xu's closed form is a construction for the Marschner model (its C_k/H_k fits and
-         * Gaussian M); d'Eon has the fast path only (docs/srbf.md, "d'Eon fast path") */
+         * Gaussian M); d'Eon and Chiang have the fast path only (docs/srbf.md, "d'Eon fast
+         * path", "Chiang fast path") */
+        const char *name = m->model == SL_MODEL_CHIANG ? "chiang" : "deon";
         if (xu)
-            return sl_fail(e, "eval: srbf --method xu is Xu's closed form of the Marschner "
-                              "model; model deon has --method fast (c, opencl) and exact "
-                              "(reference)");
+            return sl_fail(e,
+                           "eval: srbf --method xu is Xu's closed form of the Marschner "
+                           "model; model %s has --method fast (c, opencl) and exact "
+                           "(reference)",
+                           name);
         sl_srbf_tables t;
         if (sl_srbf_tables_get(&t, 1, e)) return -1;
         sl_fiber_params fp;

@@ -28,6 +28,8 @@ typedef struct sl_srbf_tables {
     float *D;         /* SL_SRBF_DEON_FLOATS: the d'Eon W slices p = 3..SL_SRBF_DEON_MAX_P
                        * (kernels/srbf_deon.h; built with W, build_s_W covers both) */
     double err_D;     /* the same as err_W for the d'Eon slices */
+    double err_Ch_x;  /* chiang's root harmonics: linear in 1/eta' at cell centres, of max |h| */
+    double err_Ch_s;  /* chiang's detector harmonics d_n: linear in log s at cell centres */
     int from_cache;   /* 1: loaded from the disk cache */
     char path[4096];  /* the cache file ("" when there is no cache directory) */
 } sl_srbf_tables;
@@ -51,10 +53,20 @@ double sl_srbf_W_exact(int mode, int i, double x, double lam, double phi);
 /* The same for any order p (Phi(p, h); p = 0 R, 1 TT, 2 TRT, >= 3 the d'Eon slices). */
 double sl_srbf_W_exact_order(int p, int i, double x, double lam, double phi);
 
+/* Model chiang's harmonic tables (kernels/srbf_chiang.h) into their region of the D buffer
+ * (D: SL_SRBF_DEON_FLOATS floats); err[0], err[1]: err_Ch_x, err_Ch_s. */
+void sl_srbf_chiang_tables_build(float *D, double err[2]);
+/* Their exact definitions, for tests: the 8-node root measure's harmonics of order p (0..2) at
+ * x = 1/eta', out[n * 8 + i] (n = 0..SL_SRBF_CH_NH, the kernel's normalisation h[0] = a_0 / 2pi,
+ * h[n] = a_n / pi); the trimmed logistic's harmonic d_n(s). */
+void sl_srbf_chiang_root_harmonics(int p, double x, double *out);
+double sl_srbf_chiang_detector_exact(double s, int n);
+
 /* `eval srbf` on a float backend: cl == NULL runs the C twin, else OpenCL. xu: 1 for Xu's
  * closed form (segments 1..8, 0 for the default 4), 0 for the fast path. in: 5 floats per row
  * (theta_o, phi_o, theta_j, phi_j, lambda), out: 4 per row (I_R, I_TT, I_TRT, I); model deon:
- * orders + 3 per row (I_0..I_orders, I_rest, I), fast path only (xu: an error). */
+ * orders + 3 per row (I_0..I_orders, I_rest, I), fast path only (xu: an error); model chiang:
+ * the same with orders 2 (I_0, I_1, I_2, I_rest, I). */
 int sl_srbf_eval(sl_cl *cl, const sl_material *m, int ch, int xu, int segments, size_t n,
                  const float *in, float *out, sl_err *e);
 

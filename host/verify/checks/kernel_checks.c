@@ -23,6 +23,8 @@ static const sl_kernel_check checks[] = {
      slchk_ms_response, 0},
     {"dual", "dual-scattering material table nodes, dual.cl", slchk_dual_table, 0},
     {"srbf", "SRBF response, --method fast and xu (m = 4), srbf.cl", slchk_srbf, 0},
+    {"srbf_deon", "SRBF response of models deon and chiang (rows and RGB rows), srbf_deon.cl",
+     slchk_srbf_deon, 1},
     {"fiber_chiang", "fiber function of model chiang (eval scatter, furnace), fiber.cl",
      slchk_fiber_chiang, 1},
     {"kbuffer", "view-pass K-buffer fill, view.cl built with -DSL_KB_K=K (bit-identical)",

@@ -81,6 +81,10 @@ int slchk_dual_table(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_r
                      sl_err *e);
 /* srbf_check.c: srbf.cl vs the C twin (o->size: number of lobes, default 4096). */
 int slchk_srbf(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
+/* srbf_deon_check.c: srbf_deon.cl (models deon and chiang, per-row and RGB kernels) vs the C
+ * twin (o->size: lobes per material, default 1024; o->extreme: poles, lambda 0.005..10, extreme
+ * materials). */
+int slchk_srbf_deon(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
 /* fiber_check.c: fiber.cl's scatter and furnace for model chiang vs the C twin (o->size: scatter
  * rows per material, default 2048; o->extreme: extreme materials). */
 int slchk_fiber_chiang(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r,

@@ -293,9 +293,6 @@ static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, i
         rc = sl_srbf_ren_get(NULL, m, NULL, &t, e);
         if (!rc) rc = sl_srbf_ren_eval(b == SL_EVAL_OPENCL ? cl : NULL, &t, ch, n, fin, fout, e);
         sl_srbf_ren_free(&t); /* t is zeroed first, so this is safe after a failure too */
-    } else if (q == SL_EVAL_SRBF && m->model == SL_MODEL_CHIANG) {
-        rc = sl_fail(e, "eval: srbf with model chiang: --backend reference --method exact only "
-                        "(no closed form for c and opencl yet)");
     } else if (q == SL_EVAL_SRBF) {
         rc = sl_srbf_eval(b == SL_EVAL_OPENCL ? cl : NULL, m, ch, mt == SL_EVAL_METHOD_XU,
                           segments, n, fin, fout, e);

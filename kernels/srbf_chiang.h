@@ -1,0 +1,379 @@
+/* srbf_chiang.h: the fast SRBF response of the Chiang 2016 model (`eval srbf --method fast` with
+ * `model: chiang`), float; part of the d'Eon fast path (included by kernels/srbf_deon.h after
+ * the helpers it shares: the longitudinal lobes, the W and C lookups, R's Fresnel fit).
+ * Derivation and measurements: docs/srbf.md, "Chiang fast path".
+ *
+ * numerics.md sec. 3 "chiang" has d'Eon's structure: f = sum_{p<=2} M_p(v_p, ti, to - 2 alpha_p)
+ * N_p(phi) + M(v_2, ti, to) E_3 / (2 pi), N_p = 1/2 int A_p(h) D_s(phi - Phi(p, h)) dh with D_s
+ * the logistic of scale s trimmed to (-pi, pi). Unlike d'Eon's, A_p (Fresnel at cos to cos
+ * gamma, eta' and absorption from theta_o) and hence N_p do not depend on theta_i: one
+ * evaluation of the nodes' A_p per row serves every theta_i. With G = G_th G_ph (Xu appendix A),
+ *   I_p = int cos ti G_th M_p N'_p d ti,  N'_p / z = sum_n k_n(ti) cos(n phi) B_n,
+ * k_n = rho_n(kappa) d_n(s) the kernel's harmonics (rho_n = I_n / I_0 of the von Mises G_ph,
+ * d_n the detector's), B_n = sum_i A_p(c_i) h_p[n][i] (the 4-node root measure's harmonics,
+ * tabulated per 1/eta'). Two branches per theta_i:
+ *  - wide (|k_NH| < SL_SRBF_CH_EPS): the harmonic sum itself, n <= SL_SRBF_CH_NH: exact in the
+ *    detector (its shape, the trimming) and in the SRBF convolution, up to the truncation;
+ *  - narrow (a sharp lobe on a sharp detector, s < ~0.23): the W product quadrature of the d'Eon
+ *    path with the logistic as the mixture of two Gaussians (std SL_SRBF_CH_MIX_S1 s and _S2 s,
+ *    weights w, 1 - w: 0.3 % of the logistic's peak) folded into the width as d'Eon's detector,
+ *    lambda3^2 = lambda'^2 + 2 sigma^2 per component (trimming is negligible there).
+ * The wide branch's B_n use 8 nodes in c (SL_SRBF_CH_NODES), the narrow branch the W slices'
+ * 4. R, narrow: Xu's C_k expansion of the Fresnel fit and the residual through the 4 nodes, as
+ * d'Eon's, plus the residual's interpolation error at phi itself (the kernel -> 0 limit, where
+ * 4 nodes are up to 6 % off near backscattering). The rest term's lobe (v_2, theta_o unshifted)
+ * has a uniform azimuth: N'_3 / z = E_3 / (2 pi) (E_3 by the 8 nodes). */
+#ifndef SL_SRBF_CHIANG_H
+#define SL_SRBF_CHIANG_H
+
+/* The logistic of unit scale as w N(0, S1^2) + (1 - w) N(0, S2^2): a sup-norm fit on the real
+ * line, max error 0.30 % of the logistic's peak (a single Gaussian of the same variance is 12 %
+ * off at the peak). */
+#ifndef SL_SRBF_CH_MIX_W /* overridable for the measurements of docs/srbf.md */
+#define SL_SRBF_CH_MIX_W 0.4449f
+#define SL_SRBF_CH_MIX_S1 1.21797f
+#define SL_SRBF_CH_MIX_S2 2.12348f
+#endif
+/* The wide branch is taken when the last harmonic of the kernel is below this (truncation
+ * error ~ its size: the harmonics beyond decay faster). */
+#ifndef SL_SRBF_CH_EPS
+#define SL_SRBF_CH_EPS 1e-4f
+#endif
+/* 1: the narrow branch adds R's and TT's kernel -> 0 interpolation errors back (0: d'Eon's
+ * narrow rule alone, for the measurements of docs/srbf.md). */
+#ifndef SL_SRBF_CH_CORRECT
+#define SL_SRBF_CH_CORRECT 1
+#endif
+
+#if SL_OPENCL
+static __constant float sl_srbf_ch_c[SL_SRBF_CH_NODES] = SL_SRBF_CH_C;
+static __constant float sl_srbf_ch_s[SL_SRBF_CH_NODES] = SL_SRBF_CH_S;
+#else
+static const float sl_srbf_ch_c[SL_SRBF_CH_NODES] = SL_SRBF_CH_C;
+static const float sl_srbf_ch_s[SL_SRBF_CH_NODES] = SL_SRBF_CH_S;
+#endif
+
+/* Colour channels one evaluation serves (the renderer's rows: r, g, b differ in sigma_a only). */
+#define SL_SRBF_CH_MAXC 3
+
+/* What a row shares across theta_i, for nch channels. R (A_0 = f) does not depend on sigma_a:
+ * one R for all channels. */
+typedef struct sl_srbf_chiang_row {
+    int nch;
+    float x, phi, s;
+    float d_nh;                /* the detector's last harmonic d_NH(s) */
+    float AR[SL_SRBF_W_NODES]; /* R, narrow: F - P at the 4 nodes */
+    float poly[6];             /* R, narrow: a_j cos^j theta_o / 4, the fit's terms in C_k */
+    float r_err;               /* R, narrow: the residual's interpolation error at phi */
+    float cR[SL_SRBF_CH_NHV];  /* R, wide: cos(n phi) d_n B_n */
+    float A[SL_SRBF_CH_MAXC][2][SL_SRBF_W_NODES]; /* TT, TRT, narrow: A_p at the 4 nodes */
+    float c[SL_SRBF_CH_MAXC][2][SL_SRBF_CH_NHV];  /* TT, TRT, wide: cos(n phi) d_n B_n */
+    float rest[SL_SRBF_CH_MAXC];                  /* N'_3 / z = E_3 / (2 pi) */
+    float emax[3]; /* per group the largest energy over the channels, E_p / (2 pi) (R: 1 / 2pi) */
+    float tt_err[SL_SRBF_CH_MAXC]; /* TT, narrow: the 4 nodes' interpolation error at phi */
+} sl_srbf_chiang_row;
+
+/* d_n(s), n = 0..SL_SRBF_CH_NH, from the table (linear in log s); below its range the
+ * untrimmed logistic's x / sinh x, x = pi s n (the trimming is e^(-pi/s) < 1e-270 there). */
+SL_INLINE void sl_srbf_chiang_detector(SL_GLOBAL const float *D, float s, float d[SL_SRBF_CH_NHV]) {
+    if (s < SL_SRBF_CH_SMIN) {
+        for (int n = 0; n < SL_SRBF_CH_NHV; n++) {
+            float x = SL_PI_F * s * (float)n, x2 = x * x;
+            d[n] = 1.0f - x2 * (1.0f / 6.0f) + x2 * x2 * (7.0f / 360.0f); /* x <= 0.26 */
+        }
+        return;
+    }
+    int is;
+    float fs = sl_srbf_grid(log(s), log(SL_SRBF_CH_SMIN), log(SL_SRBF_CH_SMAX), SL_SRBF_CH_NS, &is);
+    SL_GLOBAL const float *b = D + SL_SRBF_CH_DET_OFF + is * SL_SRBF_CH_NHV;
+    for (int n = 0; n < SL_SRBF_CH_NHV; n++)
+        d[n] = b[n] + (b[n + SL_SRBF_CH_NHV] - b[n]) * fs;
+}
+
+/* rho_n = I_n(k) / I_0(k), n = 0..SL_SRBF_CH_NH: the ratios r_n = I_n / I_(n-1) by the stable
+ * downward recurrence r_n = 1 / (2n/k + r_(n+1)), started 8 orders above NH from the mean of
+ * Amos's bounds k / (n - 1/2 + sqrt((n -+ 1/2)^2 + k^2)): where the recurrence does not damp the
+ * start's error (large k), the bounds' gap (~n / k^2 relative) is below float resolution, and
+ * where they are loose (moderate k) the 8 extra steps damp it by prod r_n^2 < 1e-4. */
+SL_INLINE void sl_srbf_chiang_vm(float k, float rho[SL_SRBF_CH_NHV]) {
+    rho[0] = 1.0f;
+    if (!(k > 1e-30f)) {
+        for (int n = 1; n < SL_SRBF_CH_NHV; n++)
+            rho[n] = 0.0f;
+        return;
+    }
+    const int top = SL_SRBF_CH_NH + 8;
+    const float nu = (float)top + 1.0f;
+    float r = 0.5f * (k / (nu - 0.5f + sqrt((nu + 0.5f) * (nu + 0.5f) + k * k)) +
+                      k / (nu - 0.5f + sqrt((nu - 0.5f) * (nu - 0.5f) + k * k)));
+    float rr[SL_SRBF_CH_NHV];
+    for (int n = top; n >= 1; n--) {
+        r = 1.0f / (2.0f * (float)n / k + r);
+        if (n <= SL_SRBF_CH_NH) rr[n] = r;
+    }
+    for (int n = 1; n < SL_SRBF_CH_NHV; n++)
+        rho[n] = rho[n - 1] * rr[n];
+}
+
+/* cos gamma_t = sqrt(1 - (h x)^2) at a node of sin gamma sn (sin gamma_t = h / eta'). */
+SL_INLINE float sl_srbf_chiang_cgt(float sn, float x) {
+    float sg = sn * x;
+    return sqrt(sl_maxf(1.0f - sg * sg, 0.0f));
+}
+
+/* The row's constants: A_p at the nodes (pbrt-v4 / numerics.md: Fresnel at cos theta_o c,
+ * eta' = sqrt(eta^2 - sin^2 to) / cos to, T = exp(-2 sigma_a cos gamma_t / cos theta_t)), the
+ * rest term's energy, R's narrow-branch correction, and per group the wide branch's sums; for
+ * nch channels of absorption sig[ch] (NULL: fp->sigma_a). */
+SL_INLINE void sl_srbf_chiang_row_init(const sl_fiber_params *fp, SL_GLOBAL const float *D,
+                                       float theta_o, float phi, int nch, const float *sig,
+                                       sl_srbf_chiang_row *r) {
+    float eta = fp->eta, so = sin(theta_o), co = sl_maxf(cos(theta_o), 0.0f);
+    /* x = 1/eta' = cos to / sqrt(eta^2 - sin^2 to): 0 at grazing, no division by cos to */
+    float x = sl_minf(co / sqrt(sl_maxf(eta * eta - so * so, 1e-30f)), 1.0f);
+    float st = so / eta, ict = 2.0f / sqrt(sl_maxf(1.0f - st * st, 1e-30f)); /* 2 / cos t */
+    float a[6];
+    sl_srbf_deon_fit(D, eta, a);
+    r->nch = nch;
+    r->x = x;
+    r->phi = phi;
+    r->s = fp->logistic_s;
+    /* the narrow branch's 4 nodes (the W slices') */
+    for (int i = 0; i < SL_SRBF_W_NODES; i++) {
+        float ci = co * sl_srbf_w_c[i], F = sl_fresnel_exact(eta, ci);
+        float P = a[0] + ci * (a[1] + ci * (a[2] + ci * (a[3] + ci * (a[4] + ci * a[5]))));
+        float cg = sl_srbf_chiang_cgt(sl_srbf_w_s[i], x);
+        r->AR[i] = F - P;
+        for (int ch = 0; ch < nch; ch++) {
+            float T = exp(-(sig ? sig[ch] : fp->sigma_a) * ict * cg);
+            float A1 = (1.0f - F) * (1.0f - F) * T;
+            r->A[ch][0][i] = A1;
+            r->A[ch][1][i] = A1 * T * F;
+        }
+    }
+    float xp = 0.25f;
+    for (int j = 0; j < 6; j++) {
+        r->poly[j] = a[j] * xp;
+        xp *= co;
+    }
+    /* R at phi in the kernel -> 0 limit: N_0 = 1/4 c F(cos to c), c = |cos(phi/2)|, where the
+     * narrow branch has 1/4 c (P + sum_i L_i(c) (F - P)_i): its error, added back there */
+    {
+        float c = fabs(cos(0.5f * phi)), ci = co * c;
+        float P = a[0] + ci * (a[1] + ci * (a[2] + ci * (a[3] + ci * (a[4] + ci * a[5]))));
+        float li = 0.0f;
+        for (int i = 0; i < SL_SRBF_W_NODES; i++) {
+            float L = 1.0f;
+            for (int j = 0; j < SL_SRBF_W_NODES; j++)
+                if (j != i) L *= (c - sl_srbf_w_c[j]) / (sl_srbf_w_c[i] - sl_srbf_w_c[j]);
+            li += L * r->AR[i];
+        }
+        r->r_err = 0.25f * c * (sl_fresnel_exact(eta, ci) - P - li);
+    }
+    /* TT at phi in the kernel -> 0 limit: Phi(1, h) = pi + 2 asin(x sin g) - 2 g falls
+     * monotonically in g = asin h (x < 1), so phi has at most one root; there N_1 = A_1 cos g /
+     * (2 |dPhi/dg|), where the narrow branch has the 4 nodes' interpolant of A_1 in place of A_1:
+     * its error, added back there (the 4 nodes cannot follow (1 - f)^2 near the band's grazing
+     * edge: up to 16 % of I_1 on the stiffest rows) */
+    for (int ch = 0; ch < nch; ch++)
+        r->tt_err[ch] = 0.0f;
+    {
+        float t = phi >= 0.0f ? phi : phi + 2.0f * SL_PI_F, lo = 2.0f * asin(x);
+        if (t > lo && t < 2.0f * SL_PI_F - lo && x < 0.999f) {
+            float g = 0.5f * (SL_PI_F - t), fd = -2.0f; /* the root at x = 0 */
+            for (int it = 0; it < 6; it++) {
+                float sg = sin(g), cg = cos(g), xs = x * sg;
+                float f = SL_PI_F + 2.0f * asin(xs) - 2.0f * g - t;
+                fd = 2.0f * x * cg / sqrt(sl_maxf(1.0f - xs * xs, 1e-12f)) - 2.0f;
+                g = sl_clampf(g - f / fd, -0.5f * SL_PI_F, 0.5f * SL_PI_F);
+            }
+            float c = cos(g), sn = fabs(sin(g)), F = sl_fresnel_exact(eta, co * c);
+            float L[SL_SRBF_W_NODES];
+            for (int i = 0; i < SL_SRBF_W_NODES; i++) {
+                L[i] = 1.0f;
+                for (int j = 0; j < SL_SRBF_W_NODES; j++)
+                    if (j != i) L[i] *= (c - sl_srbf_w_c[j]) / (sl_srbf_w_c[i] - sl_srbf_w_c[j]);
+            }
+            float cgt = sl_srbf_chiang_cgt(sn, x), wt = c / (2.0f * fabs(fd));
+            for (int ch = 0; ch < nch; ch++) {
+                float T = exp(-(sig ? sig[ch] : fp->sigma_a) * ict * cgt), li = 0.0f;
+                for (int i = 0; i < SL_SRBF_W_NODES; i++)
+                    li += L[i] * r->A[ch][0][i];
+                r->tt_err[ch] = wt * ((1.0f - F) * (1.0f - F) * T - li);
+            }
+        }
+    }
+    /* the wide branch's 8 nodes; the rest term's energy sum_{p >= 3} A_p = A_2 T f / (1 - T f)
+     * by them (h_R[0][i] = the nodes' uniform-azimuth weights omega_i / (2 pi)) */
+    float F8[SL_SRBF_CH_NODES], A8[SL_SRBF_CH_MAXC][2][SL_SRBF_CH_NODES];
+    float e8[SL_SRBF_CH_MAXC][2];
+    for (int ch = 0; ch < nch; ch++)
+        r->rest[ch] = e8[ch][0] = e8[ch][1] = 0.0f;
+    for (int i = 0; i < SL_SRBF_CH_NODES; i++) {
+        float F = sl_fresnel_exact(eta, co * sl_srbf_ch_c[i]);
+        float cg = sl_srbf_chiang_cgt(sl_srbf_ch_s[i], x);
+        F8[i] = F;
+        for (int ch = 0; ch < nch; ch++) {
+            float T = exp(-(sig ? sig[ch] : fp->sigma_a) * ict * cg);
+            float A1 = (1.0f - F) * (1.0f - F) * T, A2 = A1 * T * F, den = 1.0f - T * F;
+            A8[ch][0][i] = A1;
+            A8[ch][1][i] = A2;
+            e8[ch][0] += A1 * D[SL_SRBF_CH_R_OFF + i];
+            e8[ch][1] += A2 * D[SL_SRBF_CH_R_OFF + i];
+            if (den > 0.0f) r->rest[ch] += A2 * T * F / den * D[SL_SRBF_CH_R_OFF + i];
+        }
+    }
+    r->emax[0] = 1.0f / (2.0f * SL_PI_F);
+    r->emax[1] = r->emax[2] = 0.0f;
+    for (int ch = 0; ch < nch; ch++)
+        for (int g = 0; g < 2; g++)
+            r->emax[g + 1] = sl_maxf(r->emax[g + 1], e8[ch][g]);
+    float d[SL_SRBF_CH_NHV];
+    sl_srbf_chiang_detector(D, r->s, d);
+    r->d_nh = d[SL_SRBF_CH_NH];
+    int ix;
+    float fx = sl_srbf_grid(x, 0.0f, 1.0f, SL_SRBF_CH_NX, &ix);
+    float c1 = cos(phi), cm = 1.0f, cn = c1; /* cos(n phi) by the Chebyshev recurrence */
+    for (int n = 0; n < SL_SRBF_CH_NHV; n++) {
+        float cosn = n == 0 ? 1.0f : cn;
+        if (n > 0) {
+            float nx = 2.0f * c1 * cn - cm;
+            cm = cn;
+            cn = nx;
+        }
+        float w = cosn * d[n];
+        SL_GLOBAL const float *hr = D + SL_SRBF_CH_R_OFF + n * SL_SRBF_CH_NODES;
+        float b0 = 0.0f;
+        for (int i = 0; i < SL_SRBF_CH_NODES; i++)
+            b0 += F8[i] * hr[i];
+        r->cR[n] = w * b0;
+        for (int g = 0; g < 2; g++) {
+            SL_GLOBAL const float *h0 = D + SL_SRBF_CH_OFF + g * SL_SRBF_CH_SLICE +
+                                        (ix * SL_SRBF_CH_NHV + n) * SL_SRBF_CH_NODES;
+            SL_GLOBAL const float *h1 = h0 + SL_SRBF_CH_NHV * SL_SRBF_CH_NODES;
+            float h[SL_SRBF_CH_NODES];
+            for (int i = 0; i < SL_SRBF_CH_NODES; i++)
+                h[i] = h0[i] + (h1[i] - h0[i]) * fx;
+            for (int ch = 0; ch < nch; ch++) {
+                float b = 0.0f;
+                for (int i = 0; i < SL_SRBF_CH_NODES; i++)
+                    b += A8[ch][g][i] * h[i];
+                r->c[ch][g][n] = w * b;
+            }
+        }
+    }
+}
+
+/* N'_g / z of group g (0 R, 1 TT, 2 TRT) at the von Mises concentration kappa of G_ph (one
+ * theta_i), into v[0..nch-1] (R: v[0] only, it is the same for every channel). */
+SL_INLINE void sl_srbf_chiang_az(const sl_srbf_chiang_row *r, SL_GLOBAL const float *C,
+                                 SL_GLOBAL const float *H, int g, float kappa, float *v) {
+    int nc = g == 0 ? 1 : r->nch;
+    float rho[SL_SRBF_CH_NHV];
+    sl_srbf_chiang_vm(kappa, rho);
+    for (int ch = 0; ch < nc; ch++)
+        v[ch] = 0.0f;
+    if (fabs(rho[SL_SRBF_CH_NH] * r->d_nh) < SL_SRBF_CH_EPS) { /* |k_NH| = rho_NH |d_NH| */
+        for (int n = 0; n < SL_SRBF_CH_NHV; n++)
+            for (int ch = 0; ch < nc; ch++)
+                v[ch] += rho[n] * (g == 0 ? r->cR[n] : r->c[ch][g - 1][n]);
+    } else {
+        /* narrow: the logistic as two Gaussians, each folded into the width */
+        float l2 = kappa > 1e-30f ? 2.0f / kappa : 1e30f, s = r->s;
+        for (int k = 0; k < 2; k++) {
+            float sk = (k ? SL_SRBF_CH_MIX_S2 : SL_SRBF_CH_MIX_S1) * s;
+            float wk = k ? 1.0f - SL_SRBF_CH_MIX_W : SL_SRBF_CH_MIX_W;
+            float lam3 = sqrt(sl_minf(l2 + 2.0f * sk * sk, 1e30f)), t = sl_srbf_deon_wide(lam3);
+            float W[SL_SRBF_W_NODES];
+            sl_srbf_W(H, g == 0 ? 2 : g - 1, r->x, lam3, r->phi, W);
+            for (int i = 0; i < SL_SRBF_W_NODES; i++) /* beyond the tables: see deon_wide */
+                W[i] = sl_srbf_deon_u[i] + t * (W[i] - sl_srbf_deon_u[i]);
+            if (g == 0) {
+                /* R: Xu's C_k of the Fresnel fit, the residual through the 4 nodes */
+                float Cn[7], q = 0.0f;
+                sl_srbf_C(C, lam3, r->phi, Cn);
+                for (int j = 0; j < 6; j++)
+                    q += r->poly[j] *
+                         (sl_srbf_deon_cu[j + 1] + t * (Cn[j + 1] - sl_srbf_deon_cu[j + 1]));
+                for (int i = 0; i < SL_SRBF_W_NODES; i++)
+                    q += r->AR[i] * W[i];
+                v[0] += wk * q;
+                continue;
+            }
+            for (int ch = 0; ch < nc; ch++) {
+                float q = 0.0f;
+                for (int i = 0; i < SL_SRBF_W_NODES; i++)
+                    q += r->A[ch][g - 1][i] * W[i];
+                v[ch] += wk * q;
+            }
+        }
+        if (g == 0 && SL_SRBF_CH_CORRECT) v[0] += r->r_err;
+        if (g == 1 && SL_SRBF_CH_CORRECT)
+            for (int ch = 0; ch < nc; ch++)
+                v[ch] += r->tt_err[ch];
+    }
+    for (int ch = 0; ch < nc; ch++)
+        v[ch] = sl_maxf(v[ch], 0.0f);
+}
+
+/* The response to one SRBF lobe for nch (1..3) channels of absorption sig[ch] (NULL:
+ * fp->sigma_a): out[5 ch + k], k = 0..4: I_0, I_1, I_2, I_rest, I (the d'Eon layout with orders
+ * 2). Everything but the absorption is computed once for all channels. */
+SL_INLINE void sl_srbf_chiang_rgb(const sl_fiber_params *fp, SL_GLOBAL const float *C,
+                                  SL_GLOBAL const float *H, SL_GLOBAL const float *D, float theta_o,
+                                  float phi_o, float theta_j, float phi_j, float lambda, int nch,
+                                  const float *sig, float *out) {
+    float cos_tj = sl_maxf(cos(theta_j), 0.0f), sin_tj = sin(theta_j);
+    float inv_l2 = 1.0f / (lambda * lambda);
+    float floor_ = sl_srbf_deon_floor(lambda, inv_l2);
+    sl_srbf_chiang_row r;
+    sl_srbf_chiang_row_init(fp, D, theta_o, sl_wrap_pi(phi_o - phi_j), nch, sig, &r);
+    for (int k = 0; k < 5 * nch; k++)
+        out[k] = 0.0f;
+    /* the trimmed logistic's peak 1 / (4 s tanh(pi / 2s)) bounds every N_p / E_p */
+    float s = sl_maxf(fp->logistic_s, 1e-30f);
+    float dmax = 0.25f / (s * tanh(0.5f * SL_PI_F / s));
+    float rest = 0.0f;
+    for (int ch = 0; ch < nch; ch++)
+        rest = sl_maxf(rest, r.rest[ch]);
+    for (int g = 0; g < 4; g++) {
+        /* A group whose contribution cannot reach 1e-4 of the error floor 0.03 int G of
+         * numerics.md sec. 5 is skipped: N'_p / z <= max N_p <= E_p dmax (R: <= 1/4), and the
+         * longitudinal weights sum to <= 2 pi int cos ti G_th M_p <= 2 pi (M_p is normalised,
+         * G_th <= 1); dark hair skips TT, TRT and the rest term before any lobe work */
+        float bound = g == 0 ? 0.25f : (g < 3 ? 2.0f * SL_PI_F * r.emax[g] * dmax : rest);
+        if (!(4.0f * SL_PI_F * bound > 1e-4f * floor_)) continue;
+        int lobe = g < 3 ? g : 2; /* the rest term: TRT's variance, theta_o unshifted */
+        float v = fp->beta[lobe] * fp->beta[lobe];
+        float tho = g < 3 ? theta_o - 2.0f * fp->alpha[g] : theta_o;
+        sl_srbf_deon_lobe L;
+        if (!sl_srbf_deon_lobe_init(v, tho, theta_j, cos_tj, sin_tj, inv_l2, &L)) continue;
+        if (g == 3) { /* uniform azimuth: exact at every node */
+            for (int ch = 0; ch < nch; ch++)
+                out[5 * ch + 3] += L.wsum * r.rest[ch];
+            continue;
+        }
+        if (!(L.wsum * bound > 1e-4f * floor_)) continue; /* the same with the actual weights */
+        float fz[SL_SRBF_CH_MAXC][3][SL_DEON_MAX_ORDERS + 1];
+        for (int j = 0; j < 3; j++) {
+            float kappa = 2.0f * cos(sl_srbf_deon_lobe_ti(&L, j)) * cos_tj * inv_l2, a[3];
+            sl_srbf_chiang_az(&r, C, H, g, kappa, a);
+            for (int ch = 0; ch < nch; ch++)
+                fz[ch][j][0] = a[g == 0 ? 0 : ch];
+        }
+        for (int ch = 0; ch < nch; ch++)
+            sl_srbf_deon_lobe_add(&L, fz[ch], 1, out + 5 * ch + g);
+    }
+    for (int ch = 0; ch < nch; ch++)
+        sl_srbf_deon_total(2, out + 5 * ch);
+}
+
+/* One channel (fp->sigma_a): out[0..4] = I_0, I_1, I_2, I_rest, I. */
+SL_INLINE void sl_srbf_chiang(const sl_fiber_params *fp, SL_GLOBAL const float *C,
+                              SL_GLOBAL const float *H, SL_GLOBAL const float *D, float theta_o,
+                              float phi_o, float theta_j, float phi_j, float lambda, float *out) {
+    sl_srbf_chiang_rgb(fp, C, H, D, theta_o, phi_o, theta_j, phi_j, lambda, 1, (const float *)0,
+                       out);
+}
+
+#endif
