@@ -146,8 +146,8 @@ sweep_check() {
     n=$(printf '%s\n' "$out" | grep -c '^extreme .* PASS (')
     if [ "$rc" -ne 0 ] && printf '%s\n' "$out" | grep -q '^extreme .* FAIL'; then
         fail "$name" "$(printf '%s\n' "$out" | grep -m2 '^extreme .* FAIL')"
-    elif [ "$n" -ne 15 ] || printf '%s\n' "$out" | grep -q '^extreme .* FAIL'; then
-        fail "$name" "expected 15 PASS lines, got $n (exit $rc)"
+    elif [ "$n" -ne 19 ] || printf '%s\n' "$out" | grep -q '^extreme .* FAIL'; then
+        fail "$name" "expected 19 PASS lines (6 shadow, 13 fiber materials incl. 4 chiang), got $n (exit $rc)"
     else
         pass "$name ($n cases)"
     fi
