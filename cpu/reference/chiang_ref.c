@@ -33,18 +33,19 @@ static double phi_of(int p, double gamma, double ie) {
 }
 
 /* gamma in [a, b] with Phi(gamma) = u, Phi monotone on [a, b], u between Phi(a) and Phi(b). */
+typedef struct phi_ctx {
+    int p;
+    double ie;
+} phi_ctx;
+
+static double phi_fn(double gamma, void *v) {
+    const phi_ctx *c = v;
+    return phi_of(c->p, gamma, c->ie);
+}
+
 static double solve_phi(int p, double ie, double a, double b, double u) {
-    double fa = phi_of(p, a, ie) - u;
-    for (int it = 0; it < 200 && b - a > 1e-15; it++) {
-        double mid = 0.5 * (a + b), fm = phi_of(p, mid, ie) - u;
-        if ((fm < 0.0) == (fa < 0.0)) {
-            a = mid;
-            fa = fm;
-        } else {
-            b = mid;
-        }
-    }
-    return 0.5 * (a + b);
+    phi_ctx c = {p, ie};
+    return slq_bisect(phi_fn, &c, a, b, u);
 }
 
 typedef struct az_ctx {

@@ -171,18 +171,19 @@ static double np_integrand(double gamma, void *vctx) {
 }
 
 /* gamma in [a, b] with Phi(gamma) = u, Phi monotone on [a, b] and u between Phi(a), Phi(b). */
+typedef struct phi_ctx {
+    int p;
+    double etap;
+} phi_ctx;
+
+static double phi_fn(double gamma, void *v) {
+    const phi_ctx *c = v;
+    return phi_of_gamma(c->p, gamma, c->etap);
+}
+
 static double solve_phi(int p, double etap, double a, double b, double u) {
-    double fa = phi_of_gamma(p, a, etap) - u;
-    for (int it = 0; it < 200 && b - a > 1e-15; it++) {
-        double mid = 0.5 * (a + b), fm = phi_of_gamma(p, mid, etap) - u;
-        if ((fm < 0.0) == (fa < 0.0)) {
-            a = mid;
-            fa = fm;
-        } else {
-            b = mid;
-        }
-    }
-    return 0.5 * (a + b);
+    phi_ctx c = {p, etap};
+    return slq_bisect(phi_fn, &c, a, b, u);
 }
 
 double slref_deon_np(const sl_material *m, int ch, int p, double theta_d, double phi) {

@@ -326,3 +326,17 @@ static int cmp_double(const void *a, const void *b) {
 void slq_pts_sort(slq_pts *l) {
     qsort(l->v, l->n, sizeof *l->v, cmp_double);
 }
+
+double slq_bisect(slq_fn f, void *ctx, double a, double b, double u) {
+    double fa = f(a, ctx) - u;
+    for (int it = 0; it < 200 && b - a > 1e-15; it++) {
+        double mid = 0.5 * (a + b), fm = f(mid, ctx) - u;
+        if ((fm < 0.0) == (fa < 0.0)) {
+            a = mid;
+            fa = fm;
+        } else {
+            b = mid;
+        }
+    }
+    return 0.5 * (a + b);
+}
