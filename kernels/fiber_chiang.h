@@ -87,15 +87,12 @@ SL_INLINE int sl_chiang_default_panels(const sl_fiber_params *fp) {
  * 2pi-periodic). phi in (-pi, pi]. */
 SL_INLINE void sl_chiang_azimuthal(const sl_chiang_geom *g, float phi, int panels, float *np,
                                    float *e_rest) {
-    const float gx[4] = {0.1834346425f, 0.5255324099f, 0.7966664774f, 0.9602898565f};
-    const float gw[4] = {0.3626837834f, 0.3137066459f, 0.2223810345f, 0.1012285363f};
     float n0 = 0.0f, n1 = 0.0f, n2 = 0.0f, er = 0.0f;
     float hw = (0.5f * SL_PI_F / (float)panels) * 0.5f; /* half panel width */
     for (int k = 0; k < panels; k++) {
-        float mid = (2.0f * (float)k + 1.0f) * hw;
         for (int j = 0; j < 8; j++) {
-            float gam = mid + (j < 4 ? -gx[j] : gx[j - 4]) * hw;
-            float w = gw[j < 4 ? j : j - 4] * hw;
+            float gam, w;
+            sl_gl8_node(0.0f, hw, k, j, &gam, &w);
             float sg = sin(gam), cg = cos(gam);
             float f, t; /* t = 1 - f */
             sl_chiang_fresnel(g->eta, g->cos_o * cg, &f, &t);

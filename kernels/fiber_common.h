@@ -19,4 +19,15 @@
 #undef SL_F
 #undef SL_K
 
+/* Node j (0..7) of the 8-point Gauss-Legendre rule on panel k of width 2 hw starting at a
+ * (centre a + (2k + 1) hw): its abscissa *x and weight *w (the composite rules of
+ * fiber_deon.h, fiber_chiang.h and fiber_furnace.h). */
+SL_INLINE void sl_gl8_node(float a, float hw, int k, int j, float *x, float *w) {
+    const float gx[4] = {0.1834346425f, 0.5255324099f, 0.7966664774f, 0.9602898565f};
+    const float gw[4] = {0.3626837834f, 0.3137066459f, 0.2223810345f, 0.1012285363f};
+    float mid = a + (2.0f * (float)k + 1.0f) * hw;
+    *x = mid + (j < 4 ? -gx[j] : gx[j - 4]) * hw;
+    *w = gw[j < 4 ? j : j - 4] * hw;
+}
+
 #endif

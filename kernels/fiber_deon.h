@@ -165,18 +165,15 @@ SL_INLINE int sl_deon_default_panels(const sl_fiber_params *fp) {
  *   N_p(phi) = integral_0^{pi/2} A(p, sin g) cos g [D(phi - Phi) + D(-phi - Phi)]/2 dg. */
 SL_INLINE void sl_deon_azimuthal(const sl_fiber_params *fp, const sl_deon_geom *g, float phi, int n,
                                  int panels, float *np, float *e_rest) {
-    const float gx[4] = {0.1834346425f, 0.5255324099f, 0.7966664774f, 0.9602898565f};
-    const float gw[4] = {0.3626837834f, 0.3137066459f, 0.2223810345f, 0.1012285363f};
     for (int p = 0; p <= n; p++)
         np[p] = 0.0f;
     float er = 0.0f;
     float b0 = fp->beta[0], b1 = fp->beta[1], b2 = fp->beta[2];
     float hw = (0.5f * SL_PI_F / (float)panels) * 0.5f; /* half panel width */
     for (int k = 0; k < panels; k++) {
-        float mid = (2.0f * (float)k + 1.0f) * hw;
         for (int j = 0; j < 8; j++) {
-            float gam = mid + (j < 4 ? -gx[j] : gx[j - 4]) * hw;
-            float w = gw[j < 4 ? j : j - 4] * hw;
+            float gam, w;
+            sl_gl8_node(0.0f, hw, k, j, &gam, &w);
             float sg = sin(gam), cg = cos(gam);
             float f, T;
             sl_deon_fT(g, sg, cg, &f, &T);

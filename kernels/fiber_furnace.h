@@ -93,8 +93,6 @@ SL_INLINE void sl_furnace_sort(float *pts, int n) {
  * Gauss-Legendre panels no longer than 0.5 rad between breakpoints at the cone +-1, 2, 4, 8
  * widths (width sqrt(v_p)) and the same distances from the poles. */
 SL_INLINE float sl_furnace_chiang_mp(const sl_fiber_params *fp, int p, float theta_o) {
-    const float gx[4] = {0.1834346425f, 0.5255324099f, 0.7966664774f, 0.9602898565f};
-    const float gw[4] = {0.3626837834f, 0.3137066459f, 0.2223810345f, 0.1012285363f};
     float width = fp->beta[p < 2 ? p : 2];
     /* the cone sits at -theta_o'; past a pole it is the direction +-pi - theta_o' (M depends
      * on sin and |cos| only) */
@@ -116,10 +114,9 @@ SL_INLINE float sl_furnace_chiang_mp(const sl_fiber_params *fp, int p, float the
         int sub = (int)ceil((b - a) / 0.5f);
         float hw = 0.5f * (b - a) / (float)sub;
         for (int k = 0; k < sub; k++) {
-            float mid = a + (2.0f * (float)k + 1.0f) * hw;
             for (int j = 0; j < 8; j++) {
-                float ti = mid + (j < 4 ? -gx[j] : gx[j - 4]) * hw;
-                float w = gw[j < 4 ? j : j - 4] * hw;
+                float ti, w;
+                sl_gl8_node(a, hw, k, j, &ti, &w);
                 total += w * cos(ti) * exp(sl_chiang_log_mp(fp, p, ti, theta_o));
             }
         }
@@ -151,8 +148,6 @@ SL_INLINE float sl_furnace_chiang(const sl_fiber_params *fp, float theta_o) {
 
 SL_INLINE float sl_furnace(const sl_fiber_params *fp, float theta_o, float phi_o) {
     if (fp->model == 2) return sl_furnace_chiang(fp, theta_o);
-    const float gx[4] = {0.1834346425f, 0.5255324099f, 0.7966664774f, 0.9602898565f};
-    const float gw[4] = {0.3626837834f, 0.3137066459f, 0.2223810345f, 0.1012285363f};
     float pts[SL_FURNACE_MAX_PTS];
     int n = 0;
     pts[n++] = -0.5f * SL_PI_F;
@@ -177,10 +172,9 @@ SL_INLINE float sl_furnace(const sl_fiber_params *fp, float theta_o, float phi_o
         int sub = (int)ceil((b - a) / 0.5f);
         float hw = 0.5f * (b - a) / (float)sub;
         for (int s = 0; s < sub; s++) {
-            float mid = a + (2.0f * (float)s + 1.0f) * hw;
             for (int j = 0; j < 8; j++) {
-                float ti = mid + (j < 4 ? -gx[j] : gx[j - 4]) * hw;
-                float w = gw[j < 4 ? j : j - 4] * hw;
+                float ti, w;
+                sl_gl8_node(a, hw, s, j, &ti, &w);
                 total += w * cos(ti) * sl_furnace_phi_sum(fp, ti, theta_o, phi_o, nphi);
             }
         }

@@ -33,37 +33,19 @@ static double phi_of(int p, double gamma, double ie) {
 }
 
 /* gamma in [a, b] with Phi(gamma) = u, Phi monotone on [a, b], u between Phi(a) and Phi(b). */
+typedef struct phi_ctx {
+    int p;
+    double ie;
+} phi_ctx;
+
+static double phi_fn(double gamma, void *v) {
+    const phi_ctx *c = v;
+    return phi_of(c->p, gamma, c->ie);
+}
+
 static double solve_phi(int p, double ie, double a, double b, double u) {
-    double fa = phi_of(p, a, ie) - u;
-    for (int it = 0; it < 200 && b - a > 1e-15; it++) {
-        double mid = 0.5 * (a + b), fm = phi_of(p, mid, ie) - u;
-        if ((fm < 0.0) == (fa < 0.0)) {
-            a = mid;
-            fa = fm;
-        } else {
-            b = mid;
-        }
-    }
-    return 0.5 * (a + b);
-}
-
-typedef struct ptlist {
-    double *v;
-    size_t n, cap;
-} ptlist;
-
-static void pt_push(ptlist *l, double x) {
-    if (l->n == l->cap) {
-        l->cap = l->cap ? 2 * l->cap : 64;
-        l->v = realloc(l->v, l->cap * sizeof *l->v);
-        if (!l->v) abort();
-    }
-    l->v[l->n++] = x;
-}
-
-static int cmp_double(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
+    phi_ctx c = {p, ie};
+    return slq_bisect(phi_fn, &c, a, b, u);
 }
 
 typedef struct az_ctx {
@@ -96,9 +78,9 @@ double *slref_chiang_gamma_points(const sl_material *m, int p, double theta_o, d
         piece[3] = HALF_PI;
         npc = 4;
     }
-    ptlist pts = {0};
+    slq_pts pts = {0};
     for (int i = 0; i < npc; i++)
-        pt_push(&pts, piece[i]);
+        slq_pts_push(&pts, piece[i]);
     /* Where phi - Phi is 0, +-k width (k = 1/2 .. 32: e^-32 of a logistic peak) or pi (the
      * trimming kink of the wrapped logistic), on every wrap. */
     static const double offs[15] = {0, 0.5, -0.5, 1, -1, 2, -2, 4, -4, 8, -8, 16, -16, 32, -32};
@@ -112,11 +94,11 @@ double *slref_chiang_gamma_points(const sl_material *m, int p, double theta_o, d
             double base = phi + d;
             long k0 = (long)ceil((lo - base) / TWO_PI), k1 = (long)floor((hi - base) / TWO_PI);
             for (long k = k0; k <= k1; k++)
-                pt_push(&pts, solve_phi(p, ie, a, b, base + TWO_PI * (double)k));
+                slq_pts_push(&pts, solve_phi(p, ie, a, b, base + TWO_PI * (double)k));
         }
     }
-    pt_push(&pts, HALF_PI);
-    qsort(pts.v, pts.n, sizeof *pts.v, cmp_double);
+    slq_pts_push(&pts, HALF_PI);
+    slq_pts_sort(&pts);
     *count = pts.n;
     return pts.v;
 }

@@ -170,38 +170,20 @@ static double np_integrand(double gamma, void *vctx) {
            slref_deon_detector(c->beta, c->phi - phi_of_gamma(c->p, gamma, c->g.etap));
 }
 
-typedef struct ptlist {
-    double *v;
-    size_t n, cap;
-} ptlist;
-
-static void pt_push(ptlist *l, double x) {
-    if (l->n == l->cap) {
-        l->cap = l->cap ? 2 * l->cap : 64;
-        l->v = realloc(l->v, l->cap * sizeof *l->v);
-        if (!l->v) abort();
-    }
-    l->v[l->n++] = x;
-}
-
-static int cmp_double(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* gamma in [a, b] with Phi(gamma) = u, Phi monotone on [a, b] and u between Phi(a), Phi(b). */
+typedef struct phi_ctx {
+    int p;
+    double etap;
+} phi_ctx;
+
+static double phi_fn(double gamma, void *v) {
+    const phi_ctx *c = v;
+    return phi_of_gamma(c->p, gamma, c->etap);
+}
+
 static double solve_phi(int p, double etap, double a, double b, double u) {
-    double fa = phi_of_gamma(p, a, etap) - u;
-    for (int it = 0; it < 200 && b - a > 1e-15; it++) {
-        double mid = 0.5 * (a + b), fm = phi_of_gamma(p, mid, etap) - u;
-        if ((fm < 0.0) == (fa < 0.0)) {
-            a = mid;
-            fa = fm;
-        } else {
-            b = mid;
-        }
-    }
-    return 0.5 * (a + b);
+    phi_ctx c = {p, etap};
+    return slq_bisect(phi_fn, &c, a, b, u);
 }
 
 double slref_deon_np(const sl_material *m, int ch, int p, double theta_d, double phi) {
@@ -224,9 +206,9 @@ double slref_deon_np(const sl_material *m, int ch, int p, double theta_d, double
     } else {
         piece[1] = 0.5 * PI;
     }
-    ptlist pts = {0};
+    slq_pts pts = {0};
     for (int i = 0; i + 1 < np_; i++)
-        pt_push(&pts, piece[i]);
+        slq_pts_push(&pts, piece[i]);
     /* Breakpoints where the detector is centred or 1, 2, 5, 10 sigma away, on every wrap: this
      * makes the adaptive rule see peaks narrower than any fixed sampling. Wide detectors
      * (beta >= 0.5) are smooth enough without. */
@@ -240,12 +222,12 @@ double slref_deon_np(const sl_material *m, int ch, int p, double theta_d, double
                 double base = phi + offs[j] * c.beta;
                 long k0 = (long)ceil((lo - base) / TWO_PI), k1 = (long)floor((hi - base) / TWO_PI);
                 for (long k = k0; k <= k1; k++)
-                    pt_push(&pts, solve_phi(p, etap, a, b, base + TWO_PI * (double)k));
+                    slq_pts_push(&pts, solve_phi(p, etap, a, b, base + TWO_PI * (double)k));
             }
         }
     }
-    pt_push(&pts, 0.5 * PI);
-    qsort(pts.v, pts.n, sizeof *pts.v, cmp_double);
+    slq_pts_push(&pts, 0.5 * PI);
+    slq_pts_sort(&pts);
     /* quad.h takes <= 64 breakpoints per call: integrate in chunks of 60 intervals. */
     double total = 0.0;
     for (size_t s = 0; s + 1 < pts.n; s += 60) {

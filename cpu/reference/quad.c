@@ -308,3 +308,35 @@ void slq_integrate_vec(slq_vfn f, void *ctx, int n, double a, double b, const do
     free(tot);
     free(terr);
 }
+
+void slq_pts_push(slq_pts *l, double x) {
+    if (l->n == l->cap) {
+        l->cap = l->cap ? 2 * l->cap : 64;
+        l->v = realloc(l->v, l->cap * sizeof *l->v);
+        if (!l->v) abort();
+    }
+    l->v[l->n++] = x;
+}
+
+static int cmp_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+void slq_pts_sort(slq_pts *l) {
+    qsort(l->v, l->n, sizeof *l->v, cmp_double);
+}
+
+double slq_bisect(slq_fn f, void *ctx, double a, double b, double u) {
+    double fa = f(a, ctx) - u;
+    for (int it = 0; it < 200 && b - a > 1e-15; it++) {
+        double mid = 0.5 * (a + b), fm = f(mid, ctx) - u;
+        if ((fm < 0.0) == (fa < 0.0)) {
+            a = mid;
+            fa = fm;
+        } else {
+            b = mid;
+        }
+    }
+    return 0.5 * (a + b);
+}

@@ -38,4 +38,17 @@ typedef void (*slq_vfn)(double x, void *ctx, double *out);
 void slq_integrate_vec(slq_vfn f, void *ctx, int n, double a, double b, const double *pts,
                        size_t npts, double rel, const double *abs_tol, int max_iv, double *res);
 
+/* x in [a, b] with f(x) = u by bisection, f monotone on [a, b] and u between f(a) and f(b):
+ * at most 200 halvings, until b - a <= 1e-15; returns the last interval's midpoint. */
+double slq_bisect(slq_fn f, void *ctx, double a, double b, double u);
+
+/* A growable list of breakpoints for slq_integrate_pts: push appends (aborts when out of
+ * memory), sort puts them in ascending order; start from {0}, free v when done. */
+typedef struct slq_pts {
+    double *v;
+    size_t n, cap;
+} slq_pts;
+void slq_pts_push(slq_pts *l, double x);
+void slq_pts_sort(slq_pts *l);
+
 #endif

@@ -5,18 +5,10 @@
  * The file size must be exactly what the header declares (checked before allocating, so absurd
  * counts cannot allocate gigabytes). Thickness is a DIAMETER: radius = thickness / 2. */
 #include "io/hair/hair.h"
+#include "io/hair/hair_cyhair.h"
 
 #include <math.h>
 #include <string.h>
-
-enum {
-    CY_SEGMENTS = 1u << 0,
-    CY_POINTS = 1u << 1,
-    CY_THICKNESS = 1u << 2,
-    CY_TRANSPARENCY = 1u << 3,
-    CY_COLOR = 1u << 4,
-    CY_HEADER = 128
-};
 
 /* Copies count little-endian floats from an unaligned buffer. */
 static void read_floats(const unsigned char *src, size_t count, float *dst) {

@@ -4,19 +4,12 @@
  * diameter); colours and transparency are written when the hair has them. The file is written
  * to a temporary name and renamed (sl_atomic_*), so a failure leaves nothing behind. */
 #include "io/hair/hair.h"
+#include "io/hair/hair_cyhair.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-enum {
-    CY_SEGMENTS = 1u << 0,
-    CY_POINTS = 1u << 1,
-    CY_THICKNESS = 1u << 2,
-    CY_TRANSPARENCY = 1u << 3,
-    CY_COLOR = 1u << 4,
-    CY_HEADER = 128,
-    CY_MAX_SEGMENTS = 65535 /* segments[] is u16 */
-};
+enum { CY_MAX_SEGMENTS = 65535 /* segments[] is u16 */ };
 
 static void put_u32(unsigned char *p, uint32_t v) {
     for (int k = 0; k < 4; k++)

@@ -12,26 +12,6 @@
 #define PI 3.14159265358979323846
 #define NGL 20
 
-static void gauss_legendre(int n, double *x, double *w) {
-    for (int i = 0; i < n; i++) {
-        double z = cos(PI * (i + 0.75) / (n + 0.5)), pp = 1.0;
-        for (int it = 0; it < 100; it++) {
-            double p1 = 1.0, p2 = 0.0;
-            for (int j = 1; j <= n; j++) {
-                double p3 = p2;
-                p2 = p1;
-                p1 = ((2.0 * j - 1.0) * z * p2 - (j - 1.0) * p3) / j;
-            }
-            pp = n * (z * p1 - p2) / (z * z - 1.0);
-            double z1 = z;
-            z = z1 - p1 / pp;
-            if (fabs(z - z1) < 1e-15) break;
-        }
-        x[i] = z;
-        w[i] = 2.0 / ((1.0 - z * z) * pp * pp);
-    }
-}
-
 /* The harmonics in the kernel's normalisation: h[0] = a_0 / (2 pi), h[n] = a_n / pi, so that a
  * function with cosine coefficients a_n is sum_n h[n] cos(n phi). */
 static double norm_n(int n) {
@@ -48,7 +28,7 @@ void sl_srbf_chiang_root_harmonics(int p, double x, double *out) {
      * cos(n Phi) du (Phi(p, -h) = 2 p pi - Phi(p, h): the integrand is even in u); 32 panels
      * of 20 points (cos(16 Phi) turns by <= 3.2 rad per panel: spectral accuracy) */
     double gx[NGL], gw[NGL];
-    gauss_legendre(NGL, gx, gw);
+    sl_srbf_gauss_legendre(NGL, gx, gw);
     memset(out, 0, sizeof(double) * SL_SRBF_CH_NHV * SL_SRBF_CH_NODES);
     double den[SL_SRBF_CH_NODES]; /* the Lagrange basis' denominators */
     for (int i = 0; i < SL_SRBF_CH_NODES; i++) {
@@ -113,7 +93,7 @@ static void detector_all(double s, const double *gx, const double *gw, double d[
 
 double sl_srbf_chiang_detector_exact(double s, int n) {
     double gx[NGL], gw[NGL], d[SL_SRBF_CH_NHV];
-    gauss_legendre(NGL, gx, gw);
+    sl_srbf_gauss_legendre(NGL, gx, gw);
     detector_all(s, gx, gw, d);
     return n >= 0 && n < SL_SRBF_CH_NHV ? d[n] : 0.0;
 }
@@ -153,7 +133,7 @@ void sl_srbf_chiang_tables_build(float *D, double err[2]) {
         for (int i = 0; i < SL_SRBF_CH_NODES; i++)
             D[SL_SRBF_CH_R_OFF + n * SL_SRBF_CH_NODES + i] = (float)h[n * SL_SRBF_CH_NODES + i];
     double ed = 0.0, gx[NGL], gw[NGL], d[SL_SRBF_CH_NHV];
-    gauss_legendre(NGL, gx, gw);
+    sl_srbf_gauss_legendre(NGL, gx, gw);
     for (int is = 0; is < SL_SRBF_CH_NS; is++) {
         detector_all(s_of(is), gx, gw, d);
         for (int n = 0; n < SL_SRBF_CH_NHV; n++)

@@ -29,8 +29,7 @@
 #define PI 3.14159265358979323846
 #define NGL 20
 
-/* Gauss-Legendre nodes/weights on [-1, 1] (Newton on P_n). */
-static void gauss_legendre(int n, double *x, double *w) {
+void sl_srbf_gauss_legendre(int n, double *x, double *w) {
     for (int i = 0; i < n; i++) {
         double z = cos(PI * (i + 0.75) / (n + 0.5)), pp = 1.0;
         for (int it = 0; it < 100; it++) {
@@ -97,7 +96,7 @@ static void c_exact_all(double lam, double phi, const double *gx, const double *
 
 double sl_srbf_C_exact(int k, double lam, double phi) {
     double gx[NGL], gw[NGL], out[7];
-    gauss_legendre(NGL, gx, gw);
+    sl_srbf_gauss_legendre(NGL, gx, gw);
     c_exact_all(lam, phi, gx, gw, out);
     return k >= 0 && k < 7 ? out[k] : 0.0;
 }
@@ -126,7 +125,7 @@ static void h_exact_all(int schlick, int mode, double eta, double td, const doub
 
 double sl_srbf_H_exact(int schlick, int mode, int k, double eta, double theta_d) {
     double gx[NGL], gw[NGL], out[3];
-    gauss_legendre(NGL, gx, gw);
+    sl_srbf_gauss_legendre(NGL, gx, gw);
     h_exact_all(schlick, mode, eta, theta_d, gx, gw, out);
     return k == 0 ? out[0] : (k == 2 ? out[1] : (k == 4 ? out[2] : 0.0));
 }
@@ -451,7 +450,7 @@ static void build_fresnel_fit(float *out) {
 
 void sl_srbf_tables_build(sl_srbf_tables *t) {
     double gx[NGL], gw[NGL];
-    gauss_legendre(NGL, gx, gw);
+    sl_srbf_gauss_legendre(NGL, gx, gw);
     t->C = sl_calloc(SL_SRBF_C_FLOATS, sizeof(float));
     t->H = sl_calloc(SL_SRBF_H_FLOATS, sizeof(float));
     t->D = sl_calloc(SL_SRBF_DEON_FLOATS, sizeof(float));

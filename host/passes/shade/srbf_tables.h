@@ -53,6 +53,10 @@ double sl_srbf_W_exact(int mode, int i, double x, double lam, double phi);
 /* The same for any order p (Phi(p, h); p = 0 R, 1 TT, 2 TRT, >= 3 the d'Eon slices). */
 double sl_srbf_W_exact_order(int p, int i, double x, double lam, double phi);
 
+/* Gauss-Legendre nodes/weights on [-1, 1] (Newton on P_n), in double: the tables' quadrature
+ * (srbf_tables.c, srbf_chiang_tables.c). */
+void sl_srbf_gauss_legendre(int n, double *x, double *w);
+
 /* Model chiang's harmonic tables (kernels/srbf_chiang.h) into their region of the D buffer
  * (D: SL_SRBF_DEON_FLOATS floats); err[0], err[1]: err_Ch_x, err_Ch_s. */
 void sl_srbf_chiang_tables_build(float *D, double err[2]);

@@ -1,6 +1,9 @@
 /* ref_record.c: see ref_record.h. */
 #include "verify/reference/ref_record.h"
 
+#include "io/image/image_write.h"
+#include "scene/scene_inputs.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -68,4 +71,61 @@ cJSON *sl_ref_json_read(const char *path) {
     cJSON *root = cJSON_ParseWithLength((const char *)data, size);
     free(data);
     return root;
+}
+
+int sl_ref_scene_load(const sl_scene *s, int width, int height, sl_hair *hair, sl_camera *cam,
+                      sl_err *e) {
+    sl_scene_inputs_opts io = {.width = width, .height = height};
+    sl_scene_inputs in;
+    if (sl_scene_inputs_from_scene(s, &io, &in, e)) {
+        sl_scene_inputs_free(&in);
+        return -1;
+    }
+    *hair = in.hair;
+    *cam = in.cam;
+    memset(&in.hair, 0, sizeof in.hair);
+    sl_scene_inputs_free(&in);
+    return 0;
+}
+
+static void key_string(uint64_t key, char out[32]) {
+    snprintf(out, 32, "%016llx", (unsigned long long)key);
+}
+
+cJSON *sl_ref_record_begin(uint64_t key, const char *scene, int w, int h, cJSON **ref) {
+    cJSON *root = cJSON_CreateObject();
+    *ref = cJSON_AddObjectToObject(root, "reference");
+    char k[32];
+    key_string(key, k);
+    cJSON_AddStringToObject(*ref, "key", k);
+    cJSON_AddStringToObject(*ref, "scene", scene);
+    cJSON_AddNumberToObject(*ref, "width", w);
+    cJSON_AddNumberToObject(*ref, "height", h);
+    return root;
+}
+
+int sl_ref_key_matches(const cJSON *ref, uint64_t key) {
+    const cJSON *k = cJSON_GetObjectItemCaseSensitive(ref, "key");
+    char want[32];
+    key_string(key, want);
+    return cJSON_IsString(k) && strcmp(k->valuestring, want) == 0;
+}
+
+void sl_ref_add_mean(cJSON *ref, const double mean_rgb[3], double coverage) {
+    cJSON *mean = cJSON_AddArrayToObject(ref, "mean_rgb");
+    for (int c = 0; c < 3; c++)
+        cJSON_AddItemToArray(mean, cJSON_CreateNumber(mean_rgb[c]));
+    cJSON_AddNumberToObject(ref, "coverage", coverage);
+}
+
+int sl_ref_exr_write_planes(const char *path, int w, int h, const char *const *names, int n,
+                            float *planes, sl_err *e) {
+    size_t np = (size_t)w * h;
+    sl_exr_channel *ch = sl_malloc((size_t)n * sizeof *ch);
+    for (int c = 0; c < n; c++)
+        ch[c].name = names[c], ch[c].data = planes + c * np;
+    int rc = sl_exr_write(path, w, h, ch, n, 1, e);
+    free(ch);
+    free(planes);
+    return rc;
 }

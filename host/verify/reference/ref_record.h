@@ -10,6 +10,7 @@
 #include "io/hair/hair.h"
 #include "scene/camera.h"
 #include "scene/material.h"
+#include "scene/scene.h"
 
 #include <cjson/cJSON.h>
 #include <stdint.h>
@@ -37,5 +38,24 @@ int sl_ref_json_write(const char *path, cJSON *root, sl_err *e);
 
 /* Reads and parses a JSON record of at most 1 MiB; NULL when missing or malformed. */
 cJSON *sl_ref_json_read(const char *path);
+
+/* Hair and camera through the loader `render` uses (scene_inputs.h: the same framing, the
+ * same width/height overrides, 0 for the scene's); the hair moves into *hair. Returns 0 or -1
+ * with e set (nothing to free then). */
+int sl_ref_scene_load(const sl_scene *s, int width, int height, sl_hair *hair, sl_camera *cam,
+                      sl_err *e);
+
+/* Starts a record: a new root with the object "reference" holding "key" (16 hex digits),
+ * "scene", "width" and "height"; returns root and sets *ref. */
+cJSON *sl_ref_record_begin(uint64_t key, const char *scene, int w, int h, cJSON **ref);
+/* 1 when the record object ref holds "key" as sl_ref_record_begin writes it. */
+int sl_ref_key_matches(const cJSON *ref, uint64_t key);
+/* Adds "mean_rgb" [3] and "coverage". */
+void sl_ref_add_mean(cJSON *ref, const double mean_rgb[3], double coverage);
+
+/* Writes n float planes of w x h (plane c at planes + c * w * h, named names[c]) as a float
+ * EXR (sl_exr_write) and frees planes. Returns 0 or -1 with e set. */
+int sl_ref_exr_write_planes(const char *path, int w, int h, const char *const *names, int n,
+                            float *planes, sl_err *e);
 
 #endif

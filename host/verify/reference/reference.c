@@ -11,12 +11,10 @@
 #include "lighting/envsample.h"
 #include "io/envmap/exr_cxx_shim.h"
 #include "io/hair/hair.h"
-#include "io/image/image_write.h"
 #include "verify/reference/reference_frag.h"
 #include "verify/reference/ref_record.h"
 #include "render_ref.h"
 #include "render_ref_frag.h"
-#include "scene/scene_inputs.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
@@ -69,19 +67,9 @@ static int prepare(const sl_scene *s, const sl_reference_settings *set, prep *p,
                        "%s: environment.file: the reference needs an environment map (it cuts "
                        "the map into directional lights; lobes alone are not enough)",
                        s->path);
-    { /* hair and camera through the loader `render` uses: the same framing, the same size
-       * overrides; the hair moves into p */
-        sl_scene_inputs_opts io = {.width = set->width, .height = set->height};
-        sl_scene_inputs in;
-        if (sl_scene_inputs_from_scene(s, &io, &in, e)) {
-            sl_scene_inputs_free(&in);
-            return -1;
-        }
-        p->hair = in.hair;
-        p->cam = in.cam;
-        memset(&in.hair, 0, sizeof in.hair);
-        sl_scene_inputs_free(&in);
-    }
+    /* hair and camera through the loader `render` uses: the same framing, the same size
+     * overrides */
+    if (sl_ref_scene_load(s, set->width, set->height, &p->hair, &p->cam, e)) return -1;
     if (sl_envmap_load(s->env_file, set->clamp_nonfinite, &p->map, e)) {
         prep_free(p);
         return -1;
@@ -243,12 +231,7 @@ int sl_reference_write_exr(const char *path, const sl_reference_frame *f, sl_err
         for (int c = 0; c < 9; c++)
             pl[(8 + c) * n + i] = f->mode_rgb[9 * i + c];
     }
-    sl_exr_channel ch[NPLANES];
-    for (int c = 0; c < NPLANES; c++)
-        ch[c].name = PLANE_NAMES[c], ch[c].data = pl + c * n;
-    int rc = sl_exr_write(path, f->width, f->height, ch, NPLANES, 1, e);
-    free(pl);
-    return rc;
+    return sl_ref_exr_write_planes(path, f->width, f->height, PLANE_NAMES, NPLANES, pl, e);
 }
 
 static int cmp_double(const void *a, const void *b) {
@@ -325,13 +308,7 @@ void sl_image_error_blocks(const float *x, const float *ref, int w, int h, int b
 /* The JSON beside the EXR: the key, settings, time, convergence and the EXR's digest. */
 static int write_json(const char *path, const sl_scene *s, const sl_reference_settings *set,
                       const sl_reference_result *r, int w, int h, sl_ref_digest d, sl_err *e) {
-    cJSON *root = cJSON_CreateObject(), *ref = cJSON_AddObjectToObject(root, "reference");
-    char key[32];
-    snprintf(key, sizeof key, "%016llx", (unsigned long long)r->key);
-    cJSON_AddStringToObject(ref, "key", key);
-    cJSON_AddStringToObject(ref, "scene", s->path);
-    cJSON_AddNumberToObject(ref, "width", w);
-    cJSON_AddNumberToObject(ref, "height", h);
+    cJSON *ref, *root = sl_ref_record_begin(r->key, s->path, w, h, &ref);
     cJSON_AddNumberToObject(ref, "lights", r->lights);
     cJSON_AddNumberToObject(ref, "lights_asked", set->lights);
     cJSON_AddNumberToObject(ref, "aa", set->aa);
@@ -344,10 +321,7 @@ static int write_json(const char *path, const sl_scene *s, const sl_reference_se
         cJSON_AddNumberToObject(ref, "entries", r->entries);
     }
     cJSON_AddNumberToObject(ref, "time_s", r->time_s);
-    cJSON *mean = cJSON_AddArrayToObject(ref, "mean_rgb");
-    for (int c = 0; c < 3; c++)
-        cJSON_AddItemToArray(mean, cJSON_CreateNumber(r->mean_rgb[c]));
-    cJSON_AddNumberToObject(ref, "coverage", r->coverage);
+    sl_ref_add_mean(ref, r->mean_rgb, r->coverage);
     if (r->has_convergence) {
         cJSON *c = cJSON_AddObjectToObject(ref, "convergence");
         cJSON_AddNumberToObject(c, "lights_2n", 2 * set->lights);
@@ -366,18 +340,11 @@ static int write_json(const char *path, const sl_scene *s, const sl_reference_se
 static int read_cached(const char *json_path, const char *exr_path, uint64_t key, int conv,
                        sl_reference_result *r) {
     if (access(exr_path, R_OK) != 0) return 0;
-    unsigned char *data = NULL;
-    size_t size = 0;
-    if (sl_read_file(json_path, &data, &size, 1 << 20, NULL)) return 0;
-    cJSON *root = cJSON_ParseWithLength((const char *)data, size);
-    free(data);
+    cJSON *root = sl_ref_json_read(json_path);
     if (!root) return 0;
     int ok = 0;
     const cJSON *ref = cJSON_GetObjectItemCaseSensitive(root, "reference");
-    const cJSON *k = cJSON_GetObjectItemCaseSensitive(ref, "key");
-    char want[32];
-    snprintf(want, sizeof want, "%016llx", (unsigned long long)key);
-    if (cJSON_IsString(k) && strcmp(k->valuestring, want) == 0) {
+    if (sl_ref_key_matches(ref, key)) {
         const cJSON *c = cJSON_GetObjectItemCaseSensitive(ref, "convergence");
         int usable = !conv || cJSON_IsObject(c);
         sl_ref_digest d;

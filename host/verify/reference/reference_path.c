@@ -7,8 +7,8 @@
 #include "base/parallel.h"
 #include "io/envmap/envmap.h"
 #include "path_ref.h"
-#include "scene/scene_inputs.h"
 #include "verify/reference/path_noise.h"
+#include "verify/reference/ref_record.h"
 #include "verify/reference/reference_path_parts.h"
 
 #include <math.h>
@@ -41,16 +41,7 @@ int sl_path_prepare(const sl_scene *s, const sl_path_settings *set, sl_path_prep
                        "%s: environment.file: the path tracer needs an environment map (lobes "
                        "alone are not enough)",
                        s->path);
-    sl_scene_inputs_opts io = {.width = set->width, .height = set->height};
-    sl_scene_inputs in;
-    if (sl_scene_inputs_from_scene(s, &io, &in, e)) {
-        sl_scene_inputs_free(&in);
-        return -1;
-    }
-    p->hair = in.hair;
-    p->cam = in.cam;
-    memset(&in.hair, 0, sizeof in.hair);
-    sl_scene_inputs_free(&in);
+    if (sl_ref_scene_load(s, set->width, set->height, &p->hair, &p->cam, e)) return -1;
     if (sl_envmap_load(s->env_file, set->clamp_nonfinite, &p->map, e)) {
         sl_path_prep_free(p);
         return -1;

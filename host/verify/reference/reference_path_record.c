@@ -2,7 +2,6 @@
  * (sl_exr_write: temporary name, then rename), the JSON record beside it with the EXR's digest
  * (ref_record.h), and the cache check; sl_path_run ties them to the render. */
 #include "base/disk_cache.h"
-#include "io/image/image_write.h"
 #include "path_ref.h"
 #include "verify/reference/ref_record.h"
 #include "verify/reference/reference_path_parts.h"
@@ -46,12 +45,7 @@ static int write_exr(const char *path, const sl_path_frame *f, sl_err *e) {
         for (int c = 0; c < 12; c++)
             pl[(14 + c) * n + i] = f->lobes[12 * i + c];
     }
-    sl_exr_channel ch[NCH];
-    for (int c = 0; c < NCH; c++)
-        ch[c].name = CH_NAMES[c], ch[c].data = pl + c * n;
-    int rc = sl_exr_write(path, f->width, f->height, ch, NCH, 1, e);
-    free(pl);
-    return rc;
+    return sl_ref_exr_write_planes(path, f->width, f->height, CH_NAMES, NCH, pl, e);
 }
 
 static void add_num(cJSON *o, const char *k, double v) {
@@ -63,13 +57,7 @@ static void add_num(cJSON *o, const char *k, double v) {
 
 static int write_json(const char *path, const sl_scene *s, const sl_path_settings *set,
                       const sl_path_result *r, int w, int h, sl_ref_digest d, sl_err *e) {
-    cJSON *root = cJSON_CreateObject(), *ref = cJSON_AddObjectToObject(root, "reference");
-    char key[32];
-    snprintf(key, sizeof key, "%016llx", (unsigned long long)r->key);
-    cJSON_AddStringToObject(ref, "key", key);
-    cJSON_AddStringToObject(ref, "scene", s->path);
-    cJSON_AddNumberToObject(ref, "width", w);
-    cJSON_AddNumberToObject(ref, "height", h);
+    cJSON *ref, *root = sl_ref_record_begin(r->key, s->path, w, h, &ref);
     cJSON_AddBoolToObject(ref, "path", 1);
     cJSON_AddNumberToObject(ref, "spp", r->spp);
     cJSON_AddNumberToObject(ref, "spp_asked", set->spp);
@@ -88,10 +76,7 @@ static int write_json(const char *path, const sl_scene *s, const sl_path_setting
     cJSON_AddNumberToObject(ref, "max_events", SLREF_PATH_MAX_EVENTS);
     cJSON_AddNumberToObject(ref, "rr_events", SLREF_PATH_RR_EVENTS);
     cJSON_AddNumberToObject(ref, "capped_paths", (double)r->capped);
-    cJSON *mean = cJSON_AddArrayToObject(ref, "mean_rgb");
-    for (int c = 0; c < 3; c++)
-        cJSON_AddItemToArray(mean, cJSON_CreateNumber(r->mean_rgb[c]));
-    cJSON_AddNumberToObject(ref, "coverage", r->coverage);
+    sl_ref_add_mean(ref, r->mean_rgb, r->coverage);
     cJSON *nz = cJSON_AddObjectToObject(ref, "noise");
     cJSON_AddStringToObject(nz, "from", "even vs odd samples");
     add_num(nz, "rel_rmse", r->noise);
@@ -116,11 +101,8 @@ static int read_cached(const char *json_path, const char *exr_path, uint64_t key
     cJSON *root = sl_ref_json_read(json_path);
     if (!root) return 0;
     const cJSON *ref = cJSON_GetObjectItemCaseSensitive(root, "reference");
-    const cJSON *k = cJSON_GetObjectItemCaseSensitive(ref, "key");
-    char want[32];
-    snprintf(want, sizeof want, "%016llx", (unsigned long long)key);
-    int ok = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(ref, "path")) && cJSON_IsString(k) &&
-             strcmp(k->valuestring, want) == 0;
+    int ok =
+        cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(ref, "path")) && sl_ref_key_matches(ref, key);
     sl_ref_digest d;
     if (ok && (sl_cache_file_hash(exr_path, &d.hash, &d.bytes, NULL) != 0 ||
                !sl_ref_integrity_matches(ref, d))) {
