@@ -7,7 +7,9 @@
  *   every event: a light sample from the map (env_ref.h) with a shadow ray through the fibers
  *   (opaque) and a fiber sample whose continuation ray finds the next fiber or leaves to the
  *   map, the two combined by multiple importance sampling (power heuristic); continuation and
- *   shadow rays skip the own fiber's segments (the segment and its two neighbours);
+ *   shadow rays skip the own fiber's segments (the segment and its two neighbours) and count
+ *   only hits where they enter a fiber (a ray starting inside an interpenetrating fiber leaves
+ *   it unhindered, raytrace_ref.h);
  *   Russian roulette from SLREF_PATH_RR_EVENTS events on with survival min(1, max_c beta_c)
  *   (beta /= survival: unbiased), and a safety cap of SLREF_PATH_MAX_EVENTS events (a path
  *   reaching it is cut and counted, the only bias).

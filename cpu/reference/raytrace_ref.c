@@ -47,6 +47,19 @@ static void filter(const struct RTCFilterFunctionNArguments *args) {
             args->valid[i] = 0;
             continue;
         }
+        /* A hit where the ray leaves a fiber (the geometric normal along the ray) is not a hit:
+         * a ray that starts inside another, interpenetrating fiber passes out of it, as in
+         * Cycles (docs/validation.md, "What the gap was"). Camera rays never start inside. */
+        if (!c->collect) {
+            const float *ng = (const float *)args->hit, *ry = (const float *)args->ray;
+            unsigned n = args->N;
+            double dn = (double)ng[i] * ry[4 * n + i] + (double)ng[n + i] * ry[5 * n + i] +
+                        (double)ng[2 * n + i] * ry[6 * n + i];
+            if (dn > 0) {
+                args->valid[i] = 0;
+                continue;
+            }
+        }
         if (c->collect) {
             if (c->n < RT_MAX_HITS) {
                 c->t[c->n] = ((const float *)args->ray)[8 * args->N + i]; /* RTCRayN_tfar */

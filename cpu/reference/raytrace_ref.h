@@ -3,7 +3,10 @@
  * (a cone with spherical joints) of the fiber radius, so rays meet the actual fibers, not a
  * density. Three queries: the closest hit (camera rays), any hit (shadow rays: fibers are opaque
  * for single scattering, numerics.md sec. 7) and the list of fibers a ray crosses (dual
- * scattering's forward path, Zinke 2008). Queries are thread-safe after build. */
+ * scattering's forward path, Zinke 2008). The closest-hit and any-hit queries count only hits
+ * where the ray enters a fiber (geometric normal against the ray): a ray starting inside an
+ * interpenetrating fiber leaves it without a hit, as in Cycles; the crossings list is unchanged.
+ * Queries are thread-safe after build. */
 #ifndef SL_RAYTRACE_REF_H
 #define SL_RAYTRACE_REF_H
 

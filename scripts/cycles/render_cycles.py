@@ -14,7 +14,8 @@ environment as strandlight parsed them, which must agree with this script's read
 Cycles: Principled Hair BSDF (model chiang required; Melanin parametrisation, or Absorption
 Coefficient when the scene gives sigma_a), random_* 0; world = the map as our loader decodes it
 (blender_scene.env_image), strength = intensity, rotation_deg applied; film transparent, no
-clamping, 32 bounces of every kind (--bounces B: B of every kind), box filter, no denoising
+clamping, 32 bounces of every kind (--bounces B: B of every kind; B = 0 is one scattering
+event, B the B + 1 events of the path tracer's cap), box filter, no denoising
 (blender_scene.settings).
 --offset-sign flip (default) gives Cycles the negated offset so that its lobes shift the way ours
 do (Cycles 3.4 tilts theta_i, docs/validation.md); same passes it unchanged.
@@ -68,7 +69,7 @@ def parse_args(argv):
                     o[ints[a]] = int(v)
                 except ValueError:
                     fail(f"{a}: expected an integer, got '{v}'")
-                if o[ints[a]] < (0 if a in ("--seed", "--threads") else 1):
+                if o[ints[a]] < (0 if a in ("--seed", "--threads", "--bounces") else 1):
                     fail(f"{a}: out of range: {v}")
             elif a == "--hair":
                 o["hair"] = v

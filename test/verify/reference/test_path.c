@@ -64,8 +64,9 @@ static const char *WHITE_CHIANG = "{\"model\": \"chiang\", \"melanin\": 0, \"tin
 /* d'Eon is white when sigma_a = 0 and every order shares one lobe (docs/numerics-deon.md) */
 static const char *WHITE_DEON = "{\"model\": \"deon\", \"sigma_a\": 0, \"alpha_R_deg\": 0, "
                                 "\"beta_R_deg\": 10, \"beta_TT_deg\": 10, \"beta_TRT_deg\": 10}";
-/* dense: 600 wavy strands of radius 0.2 seen from behind the head, every pixel covered, ~12
- * scattering events per path; sparse: 30 straight strands, ~2 events per path */
+/* dense: 600 wavy strands of radius 0.2 seen from behind the head, every pixel covered, ~8
+ * scattering events per path (~12 while a ray leaving an overlapping fiber was a hit); sparse:
+ * 30 straight strands, ~2 events per path */
 static const char *DENSE =
     "{\"procedural\": {\"style\": \"wavy\", \"strands\": 600, \"points\": 8, \"seed\": 3}, "
     "\"radius\": 0.2}";
@@ -127,7 +128,7 @@ static void check_furnace(const char *mat, const char *tag, int spp_dense, int s
     sl_path_result r;
     furnace(dir, "dense", mat, DENSE, DENSE_VIEW, spp_dense, rd, &r);
     CHECK_MSG(fabs(rd[0] - 1) < 0.01, "%s dense: sum(rgb)/sum(alpha) = %.5f", tag, rd[0]);
-    CHECK_MSG(r.events_per_path > 8 && r.capped == 0, "%s dense: %.1f events per path, %lld cut",
+    CHECK_MSG(r.events_per_path > 6 && r.capped == 0, "%s dense: %.1f events per path, %lld cut",
               tag, r.events_per_path, r.capped);
     if (getenv("SL_TEST_VERBOSE"))
         fprintf(stderr, "%s dense: %.5f (%d spp, %.1f events/path, %.2f s)\n", tag, rd[0], r.spp,
