@@ -22,6 +22,20 @@ static void chiang_default(sl_chiang *c) {
     c->offset = 2.0 * DEG;
 }
 
+const char *const sl_material_lobe_keys[] = {"alpha_R_deg",
+                                             "beta_R_deg",
+                                             "alpha_TT_deg",
+                                             "beta_TT_deg",
+                                             "alpha_TRT_deg",
+                                             "beta_TRT_deg",
+                                             "eccentricity",
+                                             "caustic_width_deg",
+                                             "fresnel",
+                                             "orders",
+                                             NULL};
+const char *const sl_material_chiang_keys[] = {
+    "melanin_redness", "tint", "roughness", "radial_roughness", "coat", "offset_deg", NULL};
+
 const char *sl_material_model_name(int model) {
     return model == SL_MODEL_DEON ? "deon" : model == SL_MODEL_CHIANG ? "chiang" : "marschner";
 }
@@ -267,18 +281,7 @@ static int read_chiang(const mctx *c, const cJSON *obj, sl_material *m, sl_err *
         int ok = 0;
         for (const char *const *a = keys; *a; a++)
             if (strcmp(k, *a) == 0) ok = 1;
-        static const char *const other[] = {"alpha_R_deg",
-                                            "beta_R_deg",
-                                            "alpha_TT_deg",
-                                            "beta_TT_deg",
-                                            "alpha_TRT_deg",
-                                            "beta_TRT_deg",
-                                            "eccentricity",
-                                            "caustic_width_deg",
-                                            "fresnel",
-                                            "orders",
-                                            NULL};
-        for (const char *const *a = other; *a && !ok; a++)
+        for (const char *const *a = sl_material_lobe_keys; *a && !ok; a++)
             if (strcmp(k, *a) == 0)
                 return key_fail(c, k,
                                 "not a key of model \"chiang\" (its keys: melanin, "
@@ -351,9 +354,7 @@ int sl_material_from_json(const cJSON *obj, const char *file, const char *key_pr
         m->model = SL_MODEL_CHIANG;
         return read_chiang(&c, obj, m, e);
     }
-    static const char *const chiang_only[] = {
-        "melanin_redness", "tint", "roughness", "radial_roughness", "coat", "offset_deg", NULL};
-    for (const char *const *k = chiang_only; *k; k++)
+    for (const char *const *k = sl_material_chiang_keys; *k; k++)
         if (cJSON_GetObjectItemCaseSensitive(obj, *k))
             return key_fail(&c, *k, "is a key of model \"chiang\" only", e);
     if (check_keys(&c, obj, keys, e)) return -1;

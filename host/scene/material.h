@@ -25,8 +25,8 @@ enum { SL_FRESNEL_EXACT = 0, SL_FRESNEL_SCHLICK = 1 };
 
 /* The Principled Hair (Chiang 2016, Blender/Cycles) parameters of model chiang as the user gave
  * them (numerics.md sec. 2); sl_material_from_json derives the model's quantities from them into
- * sl_material (docs/numerics-chiang.md): v_p = beta[p]^2, the cuticle shifts in alpha[] (d'Eon form:
- * theta_o - 2 alpha[p]), logistic_s, and sigma_a unless it was given directly. */
+ * sl_material (docs/numerics-chiang.md): v_p = beta[p]^2, the cuticle shifts in alpha[] (d'Eon
+ * form: theta_o - 2 alpha[p]), logistic_s, and sigma_a unless it was given directly. */
 typedef struct sl_chiang {
     double melanin;          /* 0..1 */
     double melanin_redness;  /* 0..1 */
@@ -62,6 +62,13 @@ void sl_chiang_sigma_a_rgb(const sl_chiang *c, double sigma_a[3]);
 /* Recomputes the derived fields (alpha, beta, logistic_s, and sigma_a unless given) of a chiang
  * material from m->chiang: for code that builds a material without JSON (tests). */
 void sl_chiang_derive(sl_material *m);
+
+/* The material keys only some models have (NULL-terminated): those of marschner and deon that
+ * chiang lacks, and those of chiang that marschner and deon lack (`melanin` is in neither: an
+ * object for marschner / deon, a number for chiang). The parser refuses them on the other
+ * models; the viewer drops them when the model changes. */
+extern const char *const sl_material_lobe_keys[];
+extern const char *const sl_material_chiang_keys[];
 
 /* "marschner", "deon" or "chiang". */
 const char *sl_material_model_name(int model);

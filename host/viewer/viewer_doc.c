@@ -195,23 +195,10 @@ static int adopt(sl_viewer *v, cJSON *doc, sl_err *e) {
 
 /* After material.model was set to val: delete the material keys that model lacks. */
 static void model_keys(cJSON *doc, const cJSON *val) {
-    static const char *const lobe_keys[] = {"alpha_R_deg",
-                                            "beta_R_deg",
-                                            "alpha_TT_deg",
-                                            "beta_TT_deg",
-                                            "alpha_TRT_deg",
-                                            "beta_TRT_deg",
-                                            "eccentricity",
-                                            "caustic_width_deg",
-                                            "fresnel",
-                                            "orders",
-                                            NULL};
-    static const char *const chiang_keys[] = {
-        "melanin_redness", "tint", "roughness", "radial_roughness", "coat", "offset_deg", NULL};
     cJSON *mat = cJSON_GetObjectItemCaseSensitive(doc, "material");
     const cJSON *mel = cJSON_GetObjectItemCaseSensitive(mat, "melanin");
     int chiang = cJSON_IsString(val) && val->valuestring && strcmp(val->valuestring, "chiang") == 0;
-    for (const char *const *k = chiang ? lobe_keys : chiang_keys; *k; k++)
+    for (const char *const *k = chiang ? sl_material_lobe_keys : sl_material_chiang_keys; *k; k++)
         del(doc, "material", *k);
     /* melanin is an object (eumelanin, pheomelanin) for marschner / deon, a number for chiang */
     if (mel && (chiang ? !cJSON_IsNumber(mel) : cJSON_IsNumber(mel)))
