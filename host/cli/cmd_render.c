@@ -279,11 +279,13 @@ int cmd_render(int argc, char **argv) {
         for (int i = 0; i < s->num_aovs; i++)
             aovs |= aov_bit(s->aovs[i]) > 0 ? aov_bit(s->aovs[i]) : 0;
     if (render_check_limits(s, ro.shadow_size, NULL, &e)) goto done;
-    /* the outputs first: a bad path is found now, not after the whole render */
-    const char *exr_out = exr ? exr : (s->out_exr[0] ? s->out_exr : "out/frame.exr");
-    const char *png_out = png ? png : (exr ? NULL : s->out_png);
-    if (sl_output_precheck(exr_out, exr ? "--exr" : "output.exr", &e)) goto done;
-    if (png_out && png_out[0] && sl_output_precheck(png_out, png ? "--png" : "output.png", &e))
+    /* The outputs first: a bad path is found now, not after the whole render. An EXR named on
+     * the command line is this run's output: the scene's PNG would otherwise be overwritten by a
+     * render that was asked for somewhere else (issue 22). */
+    const char *exr_path = exr ? exr : (s->out_exr[0] ? s->out_exr : "out/frame.exr");
+    const char *png_path = png ? png : (exr ? NULL : s->out_png);
+    if (sl_output_precheck(exr_path, exr ? "--exr" : "output.exr", &e)) goto done;
+    if (png_path && png_path[0] && sl_output_precheck(png_path, png ? "--png" : "output.png", &e))
         goto done;
     if (sl_device_open(device, &dev, &e)) goto done;
     if (render_check_limits(s, ro.shadow_size, &dev, &e)) goto done;
@@ -292,10 +294,6 @@ int cmd_render(int argc, char **argv) {
     const sl_lobes *lobes = &in.lobes;
     const double *target = in.target;
     const sl_camera cam0 = in.cam;
-    const char *exr_path = exr_out;
-    /* An EXR named on the command line is this run's output: the scene's PNG would otherwise be
-     * overwritten by a render that was asked for somewhere else (issue 22). */
-    const char *png_path = png_out;
     r = sl_renderer_create(&dev, &ro);
     /* material.strand_sigma_a: per-strand absorption (docs/formats.md) */
     if (in.strand_sigma_a &&
