@@ -213,11 +213,13 @@ static void put_wrapped(FILE *f, const char *text, int col, int indent, int widt
             break;
         }
         int cut = room;
-        while (cut > 0 && p[cut] != ' ') cut--;
+        while (cut > 0 && p[cut] != ' ')
+            cut--;
         if (cut == 0) cut = room; /* one long word: cut it */
         fprintf(f, "%.*s\n%*s", cut, p, indent, "");
         p += cut;
-        while (*p == ' ') p++;
+        while (*p == ' ')
+            p++;
         col = indent;
     }
 }
@@ -353,8 +355,9 @@ static int run_passes(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
         } else {
             double t0 = sl_now();
             /* which pass a long frame is in, on a terminal (passes with a bar draw their own) */
-            sl_status("frame: %s pass (%d of %d), %.1f s", d->name, i + 1, SL_PASSID_COUNT,
-                      t0 - r->frame_t0);
+            if (!r->o.quiet) /* the viewer and report render quietly, many frames */
+                sl_status("frame: %s pass (%d of %d), %.1f s", d->name, i + 1, SL_PASSID_COUNT,
+                          t0 - r->frame_t0);
             if (d->run(r, in, e)) return -1;
             if (d->keyed) r->key[i] = key;
             record(r, d, r->rec_state, r->rec_state == SL_PASS_CACHED ? 0 : sl_now() - t0,
