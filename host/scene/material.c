@@ -170,6 +170,8 @@ static int read_angle(const mctx *c, const cJSON *obj, const char *key, int posi
     double d = 0;
     if (read_number(c, v, key, &d, e)) return -1;
     if (positive && !(d > 0)) return key_fail(c, key, "must be > 0", e);
+    /* a positive width so small that it underflows to 0 radians is no width either */
+    if (positive && !(d * DEG > 0)) return key_fail(c, key, "must be > 0 (too small)", e);
     *rad = d * DEG;
     *given = 1;
     return 0;
@@ -333,6 +335,11 @@ static int read_chiang(const mctx *c, const cJSON *obj, sl_material *m, sl_err *
         ch->sigma_a_given = 1;
     }
     sl_chiang_derive(m);
+    /* a roughness so small that its variance underflows to 0 has no lobe */
+    for (int p = 0; p < 3; p++)
+        if (!(m->beta[p] > 0))
+            return key_fail(c, p == 0 && ch->coat > 0 ? "coat" : "roughness",
+                            "too small (the longitudinal variance underflows to 0)", e);
     return 0;
 }
 

@@ -95,6 +95,10 @@ TEST(matjson_errors) {
     expect_fail("{\"beta_R_deg\": 0}", "mat.json: beta_R_deg: must be > 0");
     expect_fail("{\"beta_TT_deg\": -1}", "mat.json: beta_TT_deg: must be > 0");
     expect_fail("{\"beta_TRT_deg\": 0}", "mat.json: beta_TRT_deg: must be > 0");
+    /* positive, but 0 once in radians (found by fuzz_material: it was accepted with beta 0) */
+    expect_fail("{\"beta_TT_deg\": 1e-323}", "mat.json: beta_TT_deg: must be > 0 (too small)");
+    expect_fail("{\"model\": \"chiang\", \"roughness\": 1e-300}",
+                "mat.json: roughness: too small (the longitudinal variance underflows to 0)");
     expect_fail("{\"eta\": 1}", "mat.json: eta: must be > 1");
     expect_fail("{\"eta\": \"1.5\"}", "mat.json: eta: expected a number");
     expect_fail("{\"eta\": true}", "mat.json: eta: expected a number");
