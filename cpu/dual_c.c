@@ -6,11 +6,11 @@
 #include "dual_material.h"
 
 void slc_dual_table(const sl_fiber_params *fp, float *tab) {
-    float rho[SL_DUAL_MAXJ];
-    int nj = sl_dual_vm_coefs(fp->caustic_width, rho);
+    sl_dual_kern k;
+    sl_dual_kern_init(fp, &k);
     for (int i = 0; i < SL_DUAL_N; i++) {
         float v[9];
-        sl_dual_terms(fp, sl_dual_node(i), rho, nj, v);
+        sl_dual_terms_k(fp, sl_dual_node(i), &k, v);
         for (int r = 0; r < 9; r++)
             tab[r * SL_DUAL_N + i] = v[r];
     }

@@ -10,9 +10,10 @@ __kernel void sl_dual_table_nodes(const sl_fiber_params fp_arg, __global float *
     const int i = (int)get_global_id(0);
     if (i >= SL_DUAL_N) return;
     sl_fiber_params fp = fp_arg;
-    float rho[SL_DUAL_MAXJ], v[9];
-    int nj = sl_dual_vm_coefs(fp.caustic_width, rho);
-    sl_dual_terms(&fp, sl_dual_node(i), rho, nj, v);
+    float v[9];
+    sl_dual_kern k;
+    sl_dual_kern_init(&fp, &k);
+    sl_dual_terms_k(&fp, sl_dual_node(i), &k, v);
     for (int r = 0; r < 9; r++)
         tab[r * SL_DUAL_N + i] = v[r];
 }

@@ -49,6 +49,17 @@ enum {
 #define SL_DUAL_PANELS 8
 #define SL_DUAL_HALF_PI 1.57079632679489661923f
 
+#include "dual_ec.h"
+
+/* The longitudinal width of mode t in the Marschner form every dual-scattering and
+ * multiple-scattering formula here is written in (Xu Table 1: M(theta_h) = exp(-(theta_h -
+ * alpha)^2 / beta^2) / (sqrt(pi) beta), a Gaussian of standard deviation sqrt(2) beta in theta_i):
+ * the marschner width itself; for deon and chiang, whose beta is the standard deviation of M_p
+ * in theta (sqrt(v_p)), the width with that spread, beta / sqrt(2) (docs/dual.md). */
+SL_INLINE float sl_dual_ms_beta(const sl_fiber_params *fp, int t) {
+    return fp->model == 0 ? fp->beta[t] : 0.70710678118654752f * fp->beta[t];
+}
+
 /* rho_k = I_k(kappa)/I_0(kappa) for odd k (rho[j], k = 2j + 1), kappa = 2/w^2, by the backward
  * recurrence of q_k = I_k/I_{k-1} = 1/(2k/kappa + q_{k+1}) started with the uniform asymptotic
  * ratio kappa / (k - 1/2 + sqrt((k + 1/2)^2 + kappa^2)). Returns the number of terms needed
@@ -197,6 +208,36 @@ SL_INLINE void sl_dual_combine(const float af_t[3], const float ab_t[3], const f
     out[SL_DUAL_A_B] = A1 + A3;
     out[SL_DUAL_DELTA_B] = delta;
     out[SL_DUAL_SIGMA_B] = sigma;
+}
+
+/* The roughness kernels of a material's three modes (marschner: the TRT caustic only, rho[2];
+ * deon, chiang: every mode, kernels/dual_ec.h). */
+typedef struct sl_dual_kern {
+    float rho[3 * SL_DUAL_MAXJ];
+    int nj[3];
+} sl_dual_kern;
+
+SL_INLINE void sl_dual_kern_init(const sl_fiber_params *fp, sl_dual_kern *k) {
+    if (fp->model == 0) {
+        k->nj[0] = k->nj[1] = 0;
+        k->nj[2] = sl_dual_vm_coefs(fp->caustic_width, k->rho + 2 * SL_DUAL_MAXJ);
+        return;
+    }
+    for (int t = 0; t < 3; t++)
+        k->nj[t] = sl_ec_kernel_coefs(fp, t, k->rho + t * SL_DUAL_MAXJ, SL_DUAL_MAXJ);
+}
+
+/* The nine terms of any model at one theta_d (k: sl_dual_kern_init). */
+SL_INLINE void sl_dual_terms_k(const sl_fiber_params *fp, float theta_d, const sl_dual_kern *k,
+                               float out[9]) {
+    float af[3], ab[3], beta[3];
+    if (fp->model == 0)
+        sl_dual_attenuations(fp, theta_d, k->rho + 2 * SL_DUAL_MAXJ, k->nj[2], af, ab);
+    else
+        sl_ec_attenuations(fp, theta_d, k->rho, k->nj, af, ab);
+    for (int t = 0; t < 3; t++)
+        beta[t] = sl_dual_ms_beta(fp, t);
+    sl_dual_combine(af, ab, fp->alpha, beta, out);
 }
 
 /* The nine terms at one theta_d, directly (no table). */

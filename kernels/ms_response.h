@@ -41,6 +41,19 @@ SL_MSR_TABLE float sl_msr_ghx[3] = {0.436077411927616509f, 1.335849074013696949f
 SL_MSR_TABLE float sl_msr_ghw[3] = {0.408828469556029226f, 0.088615746041914527f,
                                     0.002555784402056249f};
 
+/* The measure factor of the theta_i integrals. marschner: f d w_i = M N cos^2 theta_i /
+ * cos^2 theta_d d theta_i d phi_i with M in the Marschner form (mass 2 in theta_i). deon and
+ * chiang: f d w_i = (M_p cos theta_i) N_p d theta_i d phi_i, and M_p cos theta_i has mass 1 in
+ * theta_i (d'Eon's normalisation), taken as the Gaussian of its spread: half the Marschner form
+ * of width sl_dual_ms_beta. The local term's lobe g(theta_i; ~Delta_b - theta_o, ~sigma_b) has
+ * mass 1 already, so there the energy-conserving factor is 1 (docs/dual.md). */
+SL_INLINE float sl_msr_w_global(const sl_fiber_params *fp, float cti, float ctd) {
+    return fp->model == 0 ? cti * cti / (ctd * ctd) : 0.5f;
+}
+SL_INLINE float sl_msr_w_local(const sl_fiber_params *fp, float cti, float ctd) {
+    return fp->model == 0 ? cti * cti / (ctd * ctd) : 1.0f;
+}
+
 /* Product of exp(-(x - m1)^2 / s1^2) and exp(-(x - m2)^2 / s2^2) = k exp(-(x - m)^2 / s^2). */
 SL_INLINE float sl_msr_gprod(float m1, float s1, float m2, float s2, float *m, float *s) {
     float a = s1 * s1, b = s2 * s2, d = m1 - m2;
@@ -141,15 +154,16 @@ SL_INLINE float sl_msr_NG(SL_GLOBAL const float *ng, int t, float theta_d, float
 SL_INLINE float sl_msr_global_nodes(const sl_fiber_params *fp, int t, float theta_o, float theta_j,
                                     float sF, float *td, float *wq) {
     float m, s;
-    float k = sl_msr_gprod(theta_j, sF, 2.0f * fp->alpha[t] - theta_o, 2.0f * fp->beta[t], &m, &s);
-    float pref = k / (SL_SQRT_PI_F * sF) / (SL_SQRT_PI_F * fp->beta[t]) * SL_SQRT_PI_F * s;
+    float bt = sl_dual_ms_beta(fp, t);
+    float k = sl_msr_gprod(theta_j, sF, 2.0f * fp->alpha[t] - theta_o, 2.0f * bt, &m, &s);
+    float pref = k / (SL_SQRT_PI_F * sF) / (SL_SQRT_PI_F * bt) * SL_SQRT_PI_F * s;
     for (int q = 0; q < 6; q++) {
         float ti = m + s * ((q & 1) ? -sl_msr_ghx[q >> 1] : sl_msr_ghx[q >> 1]);
         td[q] = 0.5f * (theta_o - ti);
         wq[q] = 0.0f;
         if (!(fabs(ti) < SL_DUAL_HALF_PI)) continue;
         float ctd = cos(td[q]), cti = cos(ti);
-        wq[q] = sl_msr_ghw[q >> 1] * cti * cti / (ctd * ctd);
+        wq[q] = sl_msr_ghw[q >> 1] * sl_msr_w_global(fp, cti, ctd);
     }
     return pref;
 }
@@ -167,8 +181,8 @@ SL_INLINE void sl_msr_local_means(SL_GLOBAL const float *tab, float theta_o, flo
  * M^L = pref sum_q w_q A_b(theta_d) cos^2 theta_i / cos^2 theta_d, the product of the lobe's
  * g(theta_i; theta_j, s_F) and g(theta_i; ~Delta_b - theta_o, ~sigma_b) (pref times a normalised
  * Gaussian) by Gauss-Hermite. Returns the sum; *pref the product's factor. */
-SL_INLINE float sl_msr_local_core(SL_GLOBAL const float *tab, float theta_o, float theta_j,
-                                  float sF, float *pref_out) {
+SL_INLINE float sl_msr_local_core(const sl_fiber_params *fp, SL_GLOBAL const float *tab,
+                                  float theta_o, float theta_j, float sF, float *pref_out) {
     float dB, sB, m, s;
     sl_msr_local_means(tab, theta_o, theta_j, sF, &dB, &sB);
     float k = sl_msr_gprod(theta_j, sF, dB - theta_o, sB, &m, &s);
@@ -178,7 +192,8 @@ SL_INLINE float sl_msr_local_core(SL_GLOBAL const float *tab, float theta_o, flo
         float ti = m + s * ((q & 1) ? -sl_msr_ghx[q >> 1] : sl_msr_ghx[q >> 1]);
         if (!(fabs(ti) < SL_DUAL_HALF_PI)) continue;
         float td = 0.5f * (theta_o - ti), ctd = cos(td), cti = cos(ti);
-        acc += sl_msr_ghw[q >> 1] * cti * cti / (ctd * ctd) * sl_dual_lookup(tab, SL_DUAL_A_B, td);
+        acc += sl_msr_ghw[q >> 1] * sl_msr_w_local(fp, cti, ctd) *
+               sl_dual_lookup(tab, SL_DUAL_A_B, td);
     }
     *pref_out = pref;
     return acc;
@@ -206,7 +221,7 @@ SL_INLINE void sl_ms_response_1(const sl_fiber_params *fp, SL_GLOBAL const float
         mg += pref * acc;
     }
     *MG = mg / ctj;
-    float pl, acc = sl_msr_local_core(tab, theta_o, theta_j, sF, &pl); /* Xu Eq. 29-31 */
+    float pl, acc = sl_msr_local_core(fp, tab, theta_o, theta_j, sF, &pl); /* Xu Eq. 29-31 */
     *ML = pl > 0.0f ? 2.0f / ctj * (SL_PI_F - fabs(D)) / (SL_PI_F * SL_PI_F) * pl * acc : 0.0f;
 }
 

@@ -84,7 +84,8 @@ SL_INLINE void sl_ms_table_1(const sl_fiber_params *fp, SL_GLOBAL const float *m
     /* Separable Gaussians of the global term, per mode (the top of the file). */
     float G[3];
     for (int t = 0; t < 3; t++) {
-        float w2 = s2 + 4.0f * fp->beta[t] * fp->beta[t],
+        float bt = sl_dual_ms_beta(fp, t);
+        float w2 = s2 + 4.0f * bt * bt,
               d = theta_j + theta_o - 2.0f * fp->alpha[t];
         G[t] = 2.0f / (SL_SQRT_PI_F * sqrt(w2)) * exp(-d * d / w2);
     }

@@ -8,6 +8,8 @@
 
 #include <math.h>
 
+#include "chiang_ref.h"
+#include "deon_ref.h"
 #include "fiber_common_d.h"
 #include "marschner_ref.h"
 #include "quad.h"
@@ -118,9 +120,61 @@ void slref_dual_combine(const double af_t[3], const double ab_t[3], const double
                 : (1.0 + SLREF_DUAL_DB * af2) * sqrt(2.0 * bf2 + bb2);
 }
 
+/* deon, chiang: the model's own N_p(phi) (deon_ref.c, chiang_ref.c), order p. */
+typedef struct ec_ctx {
+    const sl_material *m;
+    int ch, p, backward;
+    double theta_d;
+} ec_ctx;
+
+static double ec_weighted_n(double phi, void *p) {
+    const ec_ctx *c = p;
+    double w = c->backward ? PI_D - phi : phi;
+    double n = c->m->model == SL_MODEL_DEON
+                   ? slref_deon_np(c->m, c->ch, c->p, c->theta_d, phi)
+                   : slref_chiang_azimuthal(c->m, c->ch, c->p, c->theta_d, phi);
+    return w * n;
+}
+
+void slref_dual_ec_attenuations(const sl_material *m, int ch, double theta_d, double af[3],
+                                double ab[3]) {
+    int n = m->model == SL_MODEL_DEON ? m->orders : 2;
+    /* Breakpoints every pi/32 so that the adaptive rule sees every narrow peak of N_p. */
+    double pts[33];
+    for (int k = 0; k <= 32; k++)
+        pts[k] = PI_D * k / 32.0;
+    for (int t = 0; t < 3; t++)
+        af[t] = ab[t] = 0.0;
+    for (int p = 0; p <= n; p++) {
+        int t = p < 2 ? p : 2;
+        ec_ctx c = {m, ch, p, 0, theta_d};
+        double err;
+        af[t] += 2.0 / PI_D *
+                 slq_integrate_pts(ec_weighted_n, &c, 0.0, PI_D, pts, 33, 1e-8, 1e-13, 30, &err);
+        c.backward = 1;
+        ab[t] += 2.0 / PI_D *
+                 slq_integrate_pts(ec_weighted_n, &c, 0.0, PI_D, pts, 33, 1e-8, 1e-13, 30, &err);
+    }
+    /* The orders above n: uniform in phi, half forward, half backward. */
+    double rest = m->model == SL_MODEL_DEON ? slref_deon_energy_rest(m, ch, theta_d)
+                                            : slref_chiang_energy(m, ch, 3, theta_d);
+    af[2] += 0.5 * rest;
+    ab[2] += 0.5 * rest;
+}
+
 void slref_dual_terms(const sl_material *m, int ch, double theta_d, double out[9]) {
     double af[3], ab[3];
     theta_d = fmin(fabs(theta_d), PI_D / 2); /* every term is even in theta_d */
-    slref_dual_attenuations(m, ch, theta_d, af, ab);
-    slref_dual_combine(af, ab, m->alpha, m->beta, out);
+    if (m->model == SL_MODEL_MARSCHNER) {
+        slref_dual_attenuations(m, ch, theta_d, af, ab);
+        slref_dual_combine(af, ab, m->alpha, m->beta, out);
+        return;
+    }
+    /* deon, chiang: beta is the standard deviation of M_p in theta; the Marschner-form width
+     * of the same spread is beta / sqrt(2) (docs/dual.md). */
+    double beta[3];
+    for (int t = 0; t < 3; t++)
+        beta[t] = m->beta[t] / sqrt(2.0);
+    slref_dual_ec_attenuations(m, ch, theta_d, af, ab);
+    slref_dual_combine(af, ab, m->alpha, beta, out);
 }

@@ -79,7 +79,6 @@ struct sl_renderer {
     sl_pass_rec pass[SL_FRAME_MAX_PASSES];
     int rate_k; /* 0: fragment, k >= 1: every k-th vertex */
     int ms_on, lobes_used;
-    int ms_notice_model; /* 1 + the model whose "no multiple scattering" notice was printed */
     double total_s;
 };
 

@@ -35,24 +35,6 @@ int sl_pass_ms(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
         sl_frame_why(r, "quality.multiple_scattering is off");
         return 0;
     }
-    if (mat->model != SL_MODEL_MARSCHNER) {
-        const char *name = sl_material_model_name(mat->model);
-        sl_frame_why(r,
-                     "model %s: the dual-scattering terms exist for the Marschner model only "
-                     "(docs/dual.md); single scattering only",
-                     name);
-        /* asked for explicitly: say so on stderr (once per renderer and model, so an orbit
-         * does not repeat it every frame; not under render_opts.quiet, whose callers -- the
-         * viewer, report -- show the plan's why instead); auto records it in the plan only */
-        if (s->multiple_scattering == SL_MS_ON && !r->o.quiet &&
-            r->ms_notice_model != mat->model + 1) {
-            sl_note("quality.multiple_scattering is on, but multiple scattering is not "
-                    "yet available for model %s: rendering single scattering only",
-                    name);
-            r->ms_notice_model = mat->model + 1;
-        }
-        return 0;
-    }
     double ms_share = sl_dual_ms_share(mat);
     r->ms_on = s->multiple_scattering == SL_MS_ON || ms_share >= s->ms_auto_threshold;
     if (r->ms_on) {

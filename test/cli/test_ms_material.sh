@@ -14,7 +14,8 @@ printf 'theta_d\n' > "$D/empty.csv"
 printf 'theta\n0.1\n' > "$D/nocol.csv"
 printf 'theta_d\n0.2\n1.7\n' > "$D/range.csv"
 printf '{"sigma_a": [0.2, 0.4, 0.8]}' > "$D/rgb.json"
-printf '{"model": "deon"}' > "$D/deon.json"
+printf '{"model": "deon", "sigma_a": 0}' > "$D/deon.json"
+printf '{"model": "chiang", "sigma_a": 0}' > "$D/chiang.json"
 
 H='tag,theta_d,a_f,a_b,alpha_f,alpha_b,beta_f,beta_b,A_b,Delta_b,sigma_b'
 for b in c reference; do
@@ -72,4 +73,17 @@ else
 fi
 expect_error ms_material_missing_column "missing column 'theta_d'" ev "$D/nocol.csv"
 expect_error ms_material_range "<stdin>:3: theta_d: must be in [-pi/2, pi/2]" ev "$D/range.csv"
-expect_error ms_material_deon "model deon is not supported yet" ev "$D/in.csv" --material "$D/deon.json"
+# deon and chiang have their own terms (docs/dual.md "Energy-conserving models"; this test
+# expected "not supported" before): at sigma_a 0 they conserve energy, a_f + a_b = 1 (c: 1e-4,
+# the float quadrature; reference: 1e-6)
+for m in deon chiang; do
+    for b in c reference; do
+        out=$(ev "$D/in.csv" --material "$D/$m.json" --backend $b 2>&1)
+        bad=$(printf '%s\n' "$out" | awk -F, -v tol="$([ $b = c ] && echo 1e-4 || echo 1e-6)" '
+            NR == 1 { for (i = 1; i <= NF; i++) { if ($i == "a_f") f = i; if ($i == "a_b") g = i } next }
+            { d = $f + $g - 1; if (d < 0) d = -d; if (!(d <= tol)) print }
+            END { if (!f || !g || NR != 4) print "bad table" }')
+        if [ -z "$bad" ]; then pass "ms_material_${m}_${b}_energy"
+        else fail "ms_material_${m}_${b}_energy" "$bad / $out"; fi
+    done
+done

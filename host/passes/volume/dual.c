@@ -10,8 +10,7 @@
 #include <string.h>
 
 int sl_dual_tables_build(const sl_material *m, sl_dual_tables *t, sl_err *e) {
-    if (m->model != SL_MODEL_MARSCHNER)
-        return sl_fail(e, "dual scattering: model deon is not supported yet (marschner only)");
+    (void)e; /* every model has its terms (kernels/dual_material.h, dual_ec.h) */
     t->nch = m->sigma_a_rgb ? 3 : 1;
     for (int c = 0; c < t->nch; c++) {
         sl_fiber_params fp;
@@ -33,7 +32,6 @@ double sl_dual_stack_reflectance(double r, double t) {
 }
 
 double sl_dual_ms_share(const sl_material *m) {
-    if (m->model != SL_MODEL_MARSCHNER) return -1.0;
     static const double lum[3] = {0.2126, 0.7152, 0.0722};
     sl_dual_tables *t = sl_malloc(sizeof *t);
     sl_err e;

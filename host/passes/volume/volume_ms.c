@@ -36,7 +36,7 @@ static void table_node(const sl_fiber_params *fp, const float *tab, const float 
         }
     }
     float pl; /* its pref is G_b, applied at lookup */
-    v[3 * SL_MST_ND] = sl_msr_local_core(tab, to, tj, s, &pl);
+    v[3 * SL_MST_ND] = sl_msr_local_core(fp, tab, to, tj, s, &pl);
 }
 
 /* Channel c's response table (SL_MST_FLOATS at mt). */
@@ -64,8 +64,7 @@ int sl_volume_ms_init(const sl_material *m, sl_volume_ms *ms, sl_err *e) {
     if (sl_dual_tables_build(m, &ms->dt, e)) return -1;
     for (int c = 0; c < 3; c++)
         sl_material_to_fiber(m, m->sigma_a_rgb ? c : 0, &ms->fp[c]);
-    float rho[SL_DUAL_MAXJ];
-    int nj = sl_dual_vm_coefs(ms->fp[0].caustic_width, rho);
+    sl_dual_kern *kern = sl_malloc(sizeof *kern);
     ms->ng = sl_malloc(3 * SL_MSR_TABLE_FLOATS * sizeof *ms->ng);
     for (int c = 0; c < 3; c++) {
         float *ng = ms->ng + (size_t)c * SL_MSR_TABLE_FLOATS;
@@ -74,15 +73,26 @@ int sl_volume_ms_init(const sl_material *m, sl_volume_ms *ms, sl_err *e) {
             continue;
         }
         const sl_fiber_params *fp = &ms->fp[c];
+        sl_dual_kern_init(fp, kern);
+        if (fp->model != 0) { /* deon, chiang: their own azimuthal (kernels/dual_ec.h) */
+            for (int t = 0; t < 3; t++)
+                for (int i = 0; i < SL_MSR_NT; i++)
+                    sl_ec_NG_row(fp, t, sl_msr_node_td(i), kern->rho + t * SL_DUAL_MAXJ,
+                                 kern->nj[t], SL_MSR_ND,
+                                 ng + ((size_t)t * SL_MSR_NT + i) * SL_MSR_ND);
+            continue;
+        }
         float eta_trt = fp->eccentricity == 1.0f
                             ? fp->eta
                             : 0.5f * (sl_eta_star(fp->eta, fp->eccentricity, 0.0f) +
                                       sl_eta_star(fp->eta, fp->eccentricity, SL_PI_F));
         for (int t = 0; t < 3; t++)
             for (int i = 0; i < SL_MSR_NT; i++)
-                sl_msr_NG_row(fp, t, t == 2 ? eta_trt : fp->eta, i, rho, nj,
+                sl_msr_NG_row(fp, t, t == 2 ? eta_trt : fp->eta, i, kern->rho + 2 * SL_DUAL_MAXJ,
+                              kern->nj[2],
                               ng + ((size_t)t * SL_MSR_NT + i) * SL_MSR_ND);
     }
+    free(kern);
     double t1 = sl_now();
     ms->mt = sl_malloc(3 * SL_MST_FLOATS * sizeof *ms->mt);
     for (int c = 0; c < 3; c++) {

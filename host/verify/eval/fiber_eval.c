@@ -374,9 +374,6 @@ int sl_eval_run_method(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt,
         return sl_fail(e, "eval: %s is not implemented yet", quantities[q].name);
     if (quantities[q].uses_material && !m)
         return sl_fail(e, "eval: %s needs a material", quantities[q].name);
-    if (q == SL_EVAL_MS_MATERIAL && m->model != SL_MODEL_MARSCHNER)
-        return sl_fail(e, "eval: ms-material: model %s is not supported yet (marschner only)",
-                       m->model == SL_MODEL_DEON ? "deon" : "chiang");
     if (sl_eval_check_backend(q, b, m, NULL, e)) return -1;
     if (n == 0) return 0;
     if (b == SL_EVAL_REFERENCE) return run_reference(q, m, ch, n, in, out, e);

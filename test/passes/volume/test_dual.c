@@ -378,8 +378,24 @@ TEST(dual_ms_share_dark_blond) {
     CHECK(share[0] > 0.5);
     CHECK(share[1] > 0.2);
     CHECK(share[3] < 0.01);
-    sl_material d;
-    sl_material_default(&d);
-    d.model = SL_MODEL_DEON;
-    CHECK(sl_dual_ms_share(&d) < 0); /* not evaluated for d'Eon yet */
+    /* deon and chiang have their own terms now (kernels/dual_ec.h; this test said "< 0, not
+     * evaluated" before): the same ordering holds, white above 0.5, dark below 0.01. */
+    for (int model = SL_MODEL_DEON; model <= SL_MODEL_CHIANG; model++) {
+        double prev = 2.0;
+        for (int i = 0; i < 4; i++) {
+            sl_material d;
+            sl_material_default(&d);
+            d.model = model;
+            if (model == SL_MODEL_CHIANG) sl_chiang_derive(&d);
+            const double k[3] = {0.419, 0.697, 1.37};
+            for (int c = 0; c < 3; c++)
+                d.sigma_a[c] = mel[i] * k[c];
+            d.sigma_a_rgb = 1;
+            double sd = sl_dual_ms_share(&d);
+            CHECK(sd >= 0 && sd < prev);
+            if (i == 0) CHECK(sd > 0.5);
+            if (i == 3) CHECK(sd < 0.01);
+            prev = sd;
+        }
+    }
 }

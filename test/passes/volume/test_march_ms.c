@@ -113,9 +113,15 @@ TEST(march_ms_response_combination) {
     CHECK_REL(r[0], P * (0.2 * MG[0] + 0.7 * 0.6 * ML[0]), 1e-5);
     CHECK_REL(r0[0], P * (0.6 * MG[0] + 0.7 * 0.6 * ML[0]), 1e-5);
     sl_volume_ms_free(&ms);
-    /* Deon: refused. */
+    /* Deon: its own terms now (kernels/dual_ec.h; this test expected a refusal before), the
+     * same combination rule. */
     m.model = SL_MODEL_DEON;
-    CHECK(sl_volume_ms_init(&m, &ms, &e) == -1);
+    CHECK(sl_volume_ms_init(&m, &ms, &e) == 0);
+    sl_volume_ms_terms(&ms, 0.1f, 0.2f, -0.2f, 2.5f, 0.3f, sf, MG, ML);
+    sl_volume_ms_response(&ms, 0.1f, 0.2f, -0.2f, 2.5f, 0.3f, Tf, sf, 0.4f, r);
+    CHECK(MG[0] > 0 && ML[0] > 0);
+    CHECK_REL(r[0], P * (0.2 * MG[0] + 0.7 * 0.6 * ML[0]), 1e-5);
+    sl_volume_ms_free(&ms);
 }
 
 /* `ms-material --backend opencl` (kernels/dual.cl, host/passes/volume/dual_cl.c) against the C twin's table:
