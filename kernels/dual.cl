@@ -1,7 +1,7 @@
 /* dual.cl: the dual-scattering material table on the device (kernels/dual_material.h; C twin
  * cpu/dual_c.c): one work-item per node computes the nine terms at that theta_d (the SAT rows are
- * added by the host, host/passes/volume/dual_cl.c, with the same sl_dual_build_sats as the twin), and the
- * `ms-material` lookups. */
+ * added by the host, host/passes/volume/dual_cl.c, with the same sl_dual_build_sats as the twin),
+ * and the `ms-material` lookups. */
 #pragma OPENCL FP_CONTRACT OFF
 
 #include "dual_material.h"

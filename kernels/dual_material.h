@@ -1,9 +1,9 @@
 /* dual_material.h: the dual-scattering material terms (Zinke et al. 2008, as Xu 2011 Sec. 4.3.2 Eq.
- * 29-33 uses them) in float, shared by the C twin (cpu/dual_c.c, host/passes/volume/dual.c) and OpenCL: the
- * averaged forward/backward attenuations a_f, a_b, shifts alpha_f, alpha_b, widths beta_f, beta_b
- * and the local backscattering terms A_b, Delta_b, sigma_b, as 1-D tables over theta_d with 1-D
- * SATs of Delta_b and sigma_b (Xu Eq. 31). The double reference is cpu/reference/dual_ref.c; the
- * definitions and every choice are in docs/dual.md:
+ * 29-33 uses them) in float, shared by the C twin (cpu/dual_c.c, host/passes/volume/dual.c) and
+ * OpenCL: the averaged forward/backward attenuations a_f, a_b, shifts alpha_f, alpha_b, widths
+ * beta_f, beta_b and the local backscattering terms A_b, Delta_b, sigma_b, as 1-D tables over
+ * theta_d with 1-D SATs of Delta_b and sigma_b (Xu Eq. 31). The double reference is
+ * cpu/reference/dual_ref.c; the definitions and every choice are in docs/dual.md:
  *
  *  a_{f,t}(td) = 1/pi int_{-pi/2}^{pi/2} dphi_i int_{pi/2}^{3pi/2} dphi_o N_t(td, phi_o - phi_i)
  *              = 2/pi int_0^pi phi N_t(td, phi) dphi,      a_{b,t}: (pi - phi) instead of phi

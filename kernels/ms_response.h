@@ -1,6 +1,7 @@
 /* ms_response.h: the multiple-scattering response of one fragment to one SRBF lobe (dual
  * scattering under SRBF lights: Xu 2011 Eq. 3-5 and 27-31, Ren 2010 Eq. 6-7), in float, shared by
- * C (host/passes/volume/volume_ms.c) and OpenCL (compiles as OpenCL C 1.2). Definitions: docs/volume.md.
+ * C (host/passes/volume/volume_ms.c) and OpenCL (compiles as OpenCL C 1.2). Definitions:
+ * docs/volume.md.
  *
  * Lobe j seen from a fragment: centre (theta_j, phi_j) and width lambda_j in the fiber frame;
  * T_f, sigma_f from the march (kernels/march.h). The forward-scattered light arrives spread as

@@ -1,8 +1,8 @@
 /* ms_table.h: the per-material table of the multiple-scattering response (kernels/ms_response.h,
- * Xu 2011 Eq. 27-31) and its lookup, float, shared by C (host/passes/volume/volume_ms.c builds it and looks it
- * up per fragment and lobe) and OpenCL (kernels/ms.cl), so both agree to float rounding. The
- * idea is Ren 2010's precomputed single-scattering table (kernels/srbf_ren_lookup.h); layout,
- * size and error: docs/volume.md, "The response table".
+ * Xu 2011 Eq. 27-31) and its lookup, float, shared by C (host/passes/volume/volume_ms.c builds it
+ * and looks it up per fragment and lobe) and OpenCL (kernels/ms.cl), so both agree to float
+ * rounding. The idea is Ren 2010's precomputed single-scattering table (kernels/srbf_ren_lookup.h);
+ * layout, size and error: docs/volume.md, "The response table".
  *
  * What the response depends on (per channel): theta_o, theta_j, s_F = sqrt(lambda^2 + sigma_f^2)
  * (lambda and sigma_f enter only through s_F, Xu Eq. 5) and D = |wrap(phi_o - phi_j)| (N^G is
@@ -85,8 +85,7 @@ SL_INLINE void sl_ms_table_1(const sl_fiber_params *fp, SL_GLOBAL const float *m
     float G[3];
     for (int t = 0; t < 3; t++) {
         float bt = sl_dual_ms_beta(fp, t);
-        float w2 = s2 + 4.0f * bt * bt,
-              d = theta_j + theta_o - 2.0f * fp->alpha[t];
+        float w2 = s2 + 4.0f * bt * bt, d = theta_j + theta_o - 2.0f * fp->alpha[t];
         G[t] = 2.0f / (SL_SQRT_PI_F * sqrt(w2)) * exp(-d * d / w2);
     }
     float fo, fj, fs, fd, fu, fb;

@@ -1,5 +1,6 @@
 /* dual.c: dual-scattering tables of a material and the multiple-scattering share estimate
- * (host/passes/volume/dual.h, docs/dual.md). The math is kernels/dual_material.h through the C twin cpu/dual_c.c.
+ * (host/passes/volume/dual.h, docs/dual.md). The math is kernels/dual_material.h through the C twin
+ * cpu/dual_c.c.
  */
 #include "passes/volume/dual.h"
 

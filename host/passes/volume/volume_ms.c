@@ -89,8 +89,7 @@ int sl_volume_ms_init(const sl_material *m, sl_volume_ms *ms, sl_err *e) {
         for (int t = 0; t < 3; t++)
             for (int i = 0; i < SL_MSR_NT; i++)
                 sl_msr_NG_row(fp, t, t == 2 ? eta_trt : fp->eta, i, kern->rho + 2 * SL_DUAL_MAXJ,
-                              kern->nj[2],
-                              ng + ((size_t)t * SL_MSR_NT + i) * SL_MSR_ND);
+                              kern->nj[2], ng + ((size_t)t * SL_MSR_NT + i) * SL_MSR_ND);
     }
     free(kern);
     double t1 = sl_now();

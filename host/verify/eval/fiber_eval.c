@@ -294,8 +294,8 @@ static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, i
         if (!rc) rc = sl_srbf_ren_eval(b == SL_EVAL_OPENCL ? cl : NULL, &t, ch, n, fin, fout, e);
         sl_srbf_ren_free(&t); /* t is zeroed first, so this is safe after a failure too */
     } else if (q == SL_EVAL_SRBF) {
-        rc = sl_srbf_eval(b == SL_EVAL_OPENCL ? cl : NULL, m, ch, mt == SL_EVAL_METHOD_XU,
-                          segments, n, fin, fout, e);
+        rc = sl_srbf_eval(b == SL_EVAL_OPENCL ? cl : NULL, m, ch, mt == SL_EVAL_METHOD_XU, segments,
+                          n, fin, fout, e);
     } else if (b == SL_EVAL_C) {
         switch (q) {
         case SL_EVAL_SCATTER:
@@ -365,9 +365,9 @@ int sl_eval_run(sl_eval_quantity q, sl_eval_backend b, sl_cl *cl, const sl_mater
     return sl_eval_run_method(q, b, SL_EVAL_METHOD_DEFAULT, 0, cl, m, ch, n, in, out, e);
 }
 
-int sl_eval_run_method(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt,
-                       int srbf_segments, sl_cl *cl, const sl_material *m, int ch, size_t n,
-                       const double *in, double *out, sl_err *e) {
+int sl_eval_run_method(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, int srbf_segments,
+                       sl_cl *cl, const sl_material *m, int ch, size_t n, const double *in,
+                       double *out, sl_err *e) {
     const char *why = sl_eval_method_unsupported(q, b, mt);
     if (why) return sl_fail(e, "eval: %s", why);
     if (!quantities[q].implemented)

@@ -55,8 +55,8 @@ TEST(dual_ec_energy_sigma0) {
         for (int i = 0; i < 5; i++) {
             float out[9];
             sl_dual_terms_k(&fp, tds[i], k, out);
-            CHECK_MSG(fabs(out[0] + out[1] - 1.0) < 1e-4, "material %d td %g: a_f + a_b = %.7g",
-                      w, (double)tds[i], (double)(out[0] + out[1]));
+            CHECK_MSG(fabs(out[0] + out[1] - 1.0) < 1e-4, "material %d td %g: a_f + a_b = %.7g", w,
+                      (double)tds[i], (double)(out[0] + out[1]));
         }
         free(k);
     }
@@ -115,8 +115,8 @@ static double ng_reference(const sl_material *m, int t, double td, double D) {
         pts[k] = D - EPI / 2 + EPI * k / 16.0;
     for (int p = t; p <= (t < 2 ? t : n); p++) {
         ng_ctx c = {m, p, td};
-        sum += slq_integrate_pts(ng_np, &c, D - EPI / 2, D + EPI / 2, pts, 17, 1e-8, 1e-12, 30,
-                                 &err);
+        sum +=
+            slq_integrate_pts(ng_np, &c, D - EPI / 2, D + EPI / 2, pts, 17, 1e-8, 1e-12, 30, &err);
     }
     if (t == 2) {
         double rest = m->model == SL_MODEL_DEON ? slref_deon_energy_rest(m, 0, td)
@@ -149,8 +149,8 @@ TEST(dual_ec_ng_vs_reference) {
                     double D = EPI * d / (nd - 1), ref = ng_reference(&m, t, tds[i], D);
                     double tol = sharp ? 2e-2 * ref + 1e-4 : 2e-3 * ref + 1e-5;
                     CHECK_MSG(fabs(row[d] - ref) <= tol,
-                              "material %d mode %d td %g D %g: float %.7g ref %.7g", w, t,
-                              tds[i], D, (double)row[d], ref);
+                              "material %d mode %d td %g D %g: float %.7g ref %.7g", w, t, tds[i],
+                              D, (double)row[d], ref);
                 }
             }
         free(k);

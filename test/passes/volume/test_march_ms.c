@@ -1,9 +1,9 @@
-/* test_march_ms.c: the multiple-scattering response per fragment and lobe (host/passes/volume/volume_ms.c,
- * kernels/ms_response.h) against brute-force 2-D quadrature in double of its definitions
- * (docs/volume.md): M^G = int psi_f f d w_i with f the scattering function of numerics.md sec. 3
- * (evaluated with the float C twin's sl_marschner_scatter, 1e-5-accurate against the reference),
- * M^L = int psi_f S_back cos theta_i d w_i with S_back of Xu Sec. 4.3.2 taken at every theta_d
- * from the dual tables (not Xu Eq. 31's means). */
+/* test_march_ms.c: the multiple-scattering response per fragment and lobe
+ * (host/passes/volume/volume_ms.c, kernels/ms_response.h) against brute-force 2-D quadrature in
+ * double of its definitions (docs/volume.md): M^G = int psi_f f d w_i with f the scattering
+ * function of numerics.md sec. 3 (evaluated with the float C twin's sl_marschner_scatter,
+ * 1e-5-accurate against the reference), M^L = int psi_f S_back cos theta_i d w_i with S_back of Xu
+ * Sec. 4.3.2 taken at every theta_d from the dual tables (not Xu Eq. 31's means). */
 #include "test.h"
 
 #include "cl_fixture.h"
@@ -124,9 +124,9 @@ TEST(march_ms_response_combination) {
     sl_volume_ms_free(&ms);
 }
 
-/* `ms-material --backend opencl` (kernels/dual.cl, host/passes/volume/dual_cl.c) against the C twin's table:
- * the same float math per node on the device (its sin/cos/exp/asin within a few ulp), the SATs
- * by the same host code: 2e-5 relative or 1e-7 absolute (terms near 0 such as alpha). */
+/* `ms-material --backend opencl` (kernels/dual.cl, host/passes/volume/dual_cl.c) against the C
+ * twin's table: the same float math per node on the device (its sin/cos/exp/asin within a few ulp),
+ * the SATs by the same host code: 2e-5 relative or 1e-7 absolute (terms near 0 such as alpha). */
 TEST(march_ms_material_opencl_vs_c) {
     sl_err e = {{0}};
     sl_device dev;
