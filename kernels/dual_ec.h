@@ -135,19 +135,11 @@ SL_INLINE void sl_ec_node(const sl_ec_geom *g, float gam, float *A, float *rest,
 }
 
 /* (W * K)(y) for the triangle weight W(x) = |x| / pi (the forward share of a pair of
- * directions at azimuth difference x): sharp, or by its series 1/2 - 4/pi^2 sum rho_k cos(k y) /
- * k^2 (sl_dual_wf_conv of dual_material.h is pi times it). */
+ * directions at azimuth difference x): sharp, or by its smoothed series (sl_dual_wf_conv of
+ * dual_material.h is pi times it). */
 SL_INLINE float sl_ec_forward_weight(const float *rho, int nj, float y) {
     if (nj == 0) return fabs(sl_wrap_pi(y)) * SL_INV_PI_F;
-    float c = cos(y), c2 = 2.0f * (2.0f * c * c - 1.0f), ck = c, ckm2 = c, sum = 0.0f;
-    for (int j = 0; j < nj; j++) {
-        float k = (float)(2 * j + 1);
-        sum += rho[j] * ck / (k * k);
-        float next = c2 * ck - ckm2;
-        ckm2 = ck;
-        ck = next;
-    }
-    return sl_clampf(0.5f - (4.0f / (SL_PI_F * SL_PI_F)) * sum, 0.0f, 1.0f);
+    return sl_clampf(sl_dual_wf_conv(rho, nj, y) * SL_INV_PI_F, 0.0f, 1.0f);
 }
 
 /* Per-mode forward and backward attenuations a_{f,t}, a_{b,t} (t = 0, 1, 2 with the higher

@@ -49,8 +49,6 @@ enum {
 #define SL_DUAL_PANELS 8
 #define SL_DUAL_HALF_PI 1.57079632679489661923f
 
-#include "dual_ec.h"
-
 /* The longitudinal width of mode t in the Marschner form every dual-scattering and
  * multiple-scattering formula here is written in (Xu Table 1: M(theta_h) = exp(-(theta_h -
  * alpha)^2 / beta^2) / (sqrt(pi) beta), a Gaussian of standard deviation sqrt(2) beta in theta_i):
@@ -101,6 +99,9 @@ SL_INLINE float sl_dual_wf_conv(const float *rho, int nj, float x) {
     }
     return SL_DUAL_HALF_PI - (4.0f / SL_PI_F) * sum;
 }
+
+/* deon and chiang (they use sl_dual_wf_conv for their smoothed forward weight) */
+#include "dual_ec.h"
 
 /* Forward and backward attenuation of mode t (0 R, 1 TT, 2 TRT) with index eta_t at theta_d:
  * *af = 1/pi int_0^umax A_t(sin u) W(Phi_t) cos u du, *ab likewise with pi - W. */
