@@ -23,11 +23,16 @@ static const char *usage_text =
     "                      settings): ours becomes (OURS + X2) / 2, var (OURS - X2)^2 / 4\n"
     "  --ours-half X2.exr   instead: X2 is OURS's own first half of samples: ours stays OURS,\n"
     "                      var (OURS - X2)^2\n"
+    "  --layer L           compare the AOV L instead of the beauty: channels L.R, L.G, L.B of\n"
+    "                      every image (e.g. MS: ours and the path tracer's multiple scattering)\n"
+    "  --ref-layer L       the reference images' layer only (e.g. direct: the path tracer's\n"
+    "                      single scattering, against ours rendered with multiple scattering off)\n"
     "  --block K           block size (default 8)\n"
     "  --csv               machine form: quantity,r,g,b,avg\n";
 
 int cmd_compare(int argc, char **argv) {
-    const char *files[3] = {NULL, NULL, NULL}, *ours2 = NULL, *v;
+    const char *files[3] = {NULL, NULL, NULL}, *ours2 = NULL, *v, *layer = NULL,
+               *ref_layer = NULL;
     int nfiles = 0, csv = 0, missing = 0, mode = SL_OURS_INDEPENDENT, half = 0;
     long block = 8;
     for (int i = 1; i < argc; i++) {
@@ -40,6 +45,12 @@ int cmd_compare(int argc, char **argv) {
             if (ours2) return cli_usage_error("compare", "--ours-noise / --ours-half given twice");
             mode = half ? SL_OURS_HALF : SL_OURS_INDEPENDENT;
             ours2 = v;
+        } else if (cli_opt(argc, argv, &i, "--layer", &v, &missing)) {
+            if (missing) return 2;
+            layer = v;
+        } else if (cli_opt(argc, argv, &i, "--ref-layer", &v, &missing)) {
+            if (missing) return 2;
+            ref_layer = v;
         } else if (cli_opt(argc, argv, &i, "--block", &v, &missing)) {
             if (missing || cli_int("compare", "--block", v, 1, 4096, &block)) return 2;
         } else if (strcmp(argv[i], "--csv") == 0) {
@@ -59,8 +70,10 @@ int cmd_compare(int argc, char **argv) {
     const char *paths[4] = {files[0], ours2, files[1], files[2]};
     sl_err e = {{0}};
     int rc = 1;
-    for (int k = 0; k < 4; k++)
-        if (paths[k] && sl_image_read_exr(paths[k], &img[k], &e)) goto done;
+    for (int k = 0; k < 4; k++) {
+        const char *l = k >= 2 && ref_layer ? ref_layer : layer;
+        if (paths[k] && sl_image_read_exr_layer(paths[k], l, &img[k], &e)) goto done;
+    }
     sl_compare_in in = {
         .ours = &img[0],
         .ours2 = ours2 ? &img[1] : NULL,

@@ -144,7 +144,7 @@ cat > "$D/tiny.json" <<'EOF'
  "quality": {"multiple_scattering": "off"}}
 EOF
 printf '{"lobes": [{"dir": [0, 1, 0], "lambda": 0.5, "rgb": [1, 0.8, 0.6]}]}\n' > "$D/lobes.json"
-if "$SL" render "$D/tiny.json" --device c --exr "$D/a.exr" >/dev/null 2>&1 &&
+if "$SL" render "$D/tiny.json" --device c --aov TT --exr "$D/a.exr" >/dev/null 2>&1 &&
    "$SL" render "$D/tiny.json" --device c --exr "$D/small.exr" --width 24 --height 16 >/dev/null 2>&1; then
     csv=$("$SL" compare "$D/a.exr" "$D/a.exr" "$D/a.exr" --csv 2>&1)
     if printf '%s\n' "$csv" | grep -q '^ratio,1,1,1,$' && printf '%s\n' "$csv" | grep -q '^rel_rmse_blocks_corrected,0,0,0,0$' \
@@ -154,12 +154,23 @@ if "$SL" render "$D/tiny.json" --device c --exr "$D/a.exr" >/dev/null 2>&1 &&
     # the same scene under 1.1 x the light: every pixel 1.1 x (the renderer is linear in it;
     # half-float EXRs round to 5e-4): ratio 1.1, rel. RMSE 0.1 per pixel and per block
     sed 's/"lobes": "lobes.json"}/"lobes": "lobes.json", "intensity": 1.1}/' "$D/tiny.json" > "$D/tiny11.json"
-    "$SL" render "$D/tiny11.json" --device c --exr "$D/a11.exr" >/dev/null 2>&1
+    "$SL" render "$D/tiny11.json" --device c --aov TT --exr "$D/a11.exr" >/dev/null 2>&1
     csv=$("$SL" compare "$D/a11.exr" "$D/a.exr" --csv 2>&1)
     if printf '%s\n' "$csv" | awk -F, '$1 == "ratio" { for (i = 2; i <= 4; i++) if ($i < 1.098 || $i > 1.102) bad = 1; n++ }
         $1 ~ /^rel_rmse_(px|blocks)_raw$/ { if ($5 < 0.098 || $5 > 0.102) bad = 1; n++ }
         END { exit bad || n != 3 }'; then pass compare_known_ratio
     else fail compare_known_ratio "$csv"; fi
+    # --layer: the TT AOV of both (also 1.1 x); --ref-layer: beauty against the reference's TT,
+    # which is a part of it (ratio > 1); a missing layer names its channels
+    csv=$("$SL" compare "$D/a11.exr" "$D/a.exr" --layer TT --csv 2>&1)
+    if printf '%s\n' "$csv" | awk -F, '$1 == "ratio" { for (i = 2; i <= 4; i++) if ($i < 1.098 || $i > 1.102) bad = 1; n++ }
+        END { exit bad || n != 1 }'; then pass compare_layer_ratio
+    else fail compare_layer_ratio "$csv"; fi
+    csv=$("$SL" compare "$D/a.exr" "$D/a.exr" --ref-layer TT --csv 2>&1)
+    if printf '%s\n' "$csv" | awk -F, '$1 == "ratio" { for (i = 2; i <= 4; i++) if (!($i > 1.05)) bad = 1; n++ }
+        END { exit bad || n != 1 }'; then pass compare_ref_layer
+    else fail compare_ref_layer "$csv"; fi
+    expect_error compare_layer_missing "need channels XX.R, XX.G, XX.B and A" "$SL" compare "$D/a.exr" "$D/a.exr" --layer XX
     expect_output compare_table "rel RMSE blocks, corrected" "$SL" compare "$D/a.exr" "$D/a.exr" "$D/a.exr" --ours-noise "$D/a.exr"
     expect_error compare_size_mismatch "small.exr is 24 x 16" "$SL" compare "$D/a.exr" "$D/small.exr"
     expect_error compare_missing_file "none.exr" "$SL" compare "$D/a.exr" "$D/none.exr"

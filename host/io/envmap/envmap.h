@@ -89,6 +89,10 @@ int sl_envmap_decode_exr(const unsigned char *data, size_t n, const char *name, 
  * (4*w*h, row 0 top, values as stored: nothing clamped). io/image/image_read.h wraps it. */
 int sl_exr_decode_rgba(const unsigned char *data, size_t n, const char *name, int *w, int *h,
                        float **rgba, sl_err *e);
+/* The same with the colour planes of a layer: LAYER.R, LAYER.G, LAYER.B, and A (layer NULL:
+ * R, G, B). */
+int sl_exr_decode_layer_rgba(const unsigned char *data, size_t n, const char *name,
+                             const char *layer, int *w, int *h, float **rgba, sl_err *e);
 /* Decodes by magic bytes (EXR or Radiance), without sanitizing. */
 int sl_envmap_decode_memory(const unsigned char *data, size_t n, const char *name, sl_envmap *out,
                             sl_err *e);

@@ -353,11 +353,19 @@ static int cxx_header_ok(const unsigned char *d, size_t n, const exr_attr_box2i_
     return 0;
 }
 
-/* Picks the planes to decode from the channel list; fills the names/format fields of out. */
-static int make_plan(const exr_attr_chlist_t *chl, const char *name, int with_alpha, plan *p,
-                     sl_envmap *out, const char **type_word, const char **layout, sl_err *e) {
+/* Picks the planes to decode from the channel list; fills the names/format fields of out. With
+ * a layer (an image's AOV, e.g. "MS"), its LAYER.R, LAYER.G, LAYER.B are the colour planes (A
+ * stays A; no grey form). */
+static int make_plan(const exr_attr_chlist_t *chl, const char *name, int with_alpha,
+                     const char *layer, plan *p, sl_envmap *out, const char **type_word,
+                     const char **layout, sl_err *e) {
     int idx[5] = {-1, -1, -1, -1, -1}; /* R G B A Y */
-    static const char *want[5] = {"R", "G", "B", "A", "Y"};
+    char wb[3][80];
+    const char *want[5] = {"R", "G", "B", "A", layer ? "" : "Y"};
+    for (int k = 0; layer && k < 3; k++) {
+        snprintf(wb[k], sizeof wb[k], "%s.%c", layer, "RGB"[k]);
+        want[k] = wb[k];
+    }
     size_t used = 0;
     out->channel_names[0] = 0;
     for (int i = 0; i < chl->num_channels; i++) {
@@ -375,6 +383,10 @@ static int make_plan(const exr_attr_chlist_t *chl, const char *name, int with_al
     }
     out->channels = chl->num_channels;
     int grey = !(idx[0] >= 0 && idx[1] >= 0 && idx[2] >= 0);
+    if (layer && (grey || idx[3] < 0))
+        return sl_fail(e, "%s: OpenEXR: need channels %s, %s, %s and A, the file has %s", name,
+                       want[0], want[1], want[2],
+                       out->channel_names[0] ? out->channel_names : "none");
     if (grey && idx[4] < 0)
         return sl_fail(e, "%s: OpenEXR: unsupported channel set (%s): need R,G,B[,A] or Y", name,
                        out->channel_names[0] ? out->channel_names : "none");
@@ -402,7 +414,8 @@ static int make_plan(const exr_attr_chlist_t *chl, const char *name, int with_al
 
 /* sl_envmap_decode_exr, and with with_alpha the A plane too, into *alpha (w*h, caller frees). */
 static int decode_exr(const unsigned char *data, size_t n, const char *name, int force_cxx,
-                      int with_alpha, sl_envmap *out, float **alpha, sl_err *e) {
+                      int with_alpha, const char *layer, sl_envmap *out, float **alpha,
+                      sl_err *e) {
     sl_err local;
     if (!e) e = &local;
     memset(out, 0, sizeof *out);
@@ -450,7 +463,7 @@ static int decode_exr(const unsigned char *data, size_t n, const char *name, int
     }
     plan p;
     const char *type_word = "", *layout = "";
-    if (make_plan(chl, name, with_alpha, &p, out, &type_word, &layout, e)) goto done;
+    if (make_plan(chl, name, with_alpha, layer, &p, out, &type_word, &layout, e)) goto done;
     size_t np = (size_t)w * (size_t)h;
     planes = sl_calloc(np * (size_t)p.nplanes, sizeof(float));
     for (int i = 0; i < p.nplanes; i++)
@@ -500,16 +513,21 @@ done:
 
 int sl_envmap_decode_exr(const unsigned char *data, size_t n, const char *name, int force_cxx,
                          sl_envmap *out, sl_err *e) {
-    return decode_exr(data, n, name, force_cxx, 0, out, NULL, e);
+    return decode_exr(data, n, name, force_cxx, 0, NULL, out, NULL, e);
 }
 
 int sl_exr_decode_rgba(const unsigned char *data, size_t n, const char *name, int *w, int *h,
                        float **rgba, sl_err *e) {
+    return sl_exr_decode_layer_rgba(data, n, name, NULL, w, h, rgba, e);
+}
+
+int sl_exr_decode_layer_rgba(const unsigned char *data, size_t n, const char *name,
+                             const char *layer, int *w, int *h, float **rgba, sl_err *e) {
     sl_envmap m;
     float *alpha = NULL;
     *rgba = NULL;
     *w = *h = 0;
-    if (decode_exr(data, n, name, 0, 1, &m, &alpha, e)) return -1;
+    if (decode_exr(data, n, name, 0, 1, layer, &m, &alpha, e)) return -1;
     size_t np = (size_t)m.width * (size_t)m.height;
     *rgba = sl_malloc(4 * np * sizeof(float));
     for (size_t i = 0; i < np; i++) {

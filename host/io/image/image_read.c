@@ -9,11 +9,16 @@
 #define SL_IMAGE_MAX_FILE ((size_t)1 << 32)
 
 int sl_image_read_exr(const char *path, sl_image *img, sl_err *e) {
+    return sl_image_read_exr_layer(path, NULL, img, e);
+}
+
+int sl_image_read_exr_layer(const char *path, const char *layer, sl_image *img, sl_err *e) {
     memset(img, 0, sizeof *img);
     unsigned char *data = NULL;
     size_t n = 0;
     if (sl_read_file(path, &data, &n, SL_IMAGE_MAX_FILE, e)) return -1;
-    int rc = sl_exr_decode_rgba(data, n, path, &img->width, &img->height, &img->rgba, e);
+    int rc =
+        sl_exr_decode_layer_rgba(data, n, path, layer, &img->width, &img->height, &img->rgba, e);
     free(data);
     if (rc) return -1;
     /* a statistic over a non-finite pixel is meaningless: say where it is rather than print NaN */

@@ -14,6 +14,9 @@ typedef struct sl_image {
 /* Reads channels R, G, B, A of an EXR file. Errors name the file: missing, not an EXR, no A
  * channel, a NaN or infinite value (with its pixel). Returns 0, or -1 with e set and img empty. */
 int sl_image_read_exr(const char *path, sl_image *img, sl_err *e);
+/* The same with a layer's colour channels LAYER.R, LAYER.G, LAYER.B (an AOV: "MS", the path
+ * tracer's "direct", "indirect") and A; layer NULL: R, G, B. */
+int sl_image_read_exr_layer(const char *path, const char *layer, sl_image *img, sl_err *e);
 void sl_image_free(sl_image *img);
 
 #endif
