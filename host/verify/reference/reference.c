@@ -83,12 +83,14 @@ static int prepare(const sl_scene *s, const sl_reference_settings *set, prep *p,
     else if (s->material.model == SL_MODEL_MARSCHNER)
         p->ms = 1;
     else
-        sl_note("reference: material.model deon: single scattering only (the dual-scattering "
-                "terms exist for marschner)");
+        sl_note("reference: material.model %s: single scattering only (this reference's "
+                "ray-shot dual scattering is Marschner's; the path tracer, --path, has every "
+                "order)",
+                sl_material_model_name(s->material.model));
     if (p->ms && s->material.model != SL_MODEL_MARSCHNER) {
         sl_fail(e,
-                "%s: multiple scattering in the reference needs material.model \"marschner\" "
-                "(use --ms off)",
+                "%s: multiple scattering in the direct reference needs material.model "
+                "\"marschner\" (use --ms off, or --path for every order)",
                 s->path);
         prep_free(p);
         return -1;
