@@ -7,6 +7,9 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/random.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -119,10 +122,14 @@ static int alloc_should_fail(void) {
 /* Out of memory: one line, remove any temporary output file this process may have left half
  * written, and _exit(1) (not exit: atexit handlers and library destructors may allocate again,
  * and buffered stdout must not be flushed as if the output were complete). */
-static void oom(size_t n) {
+static void remove_temporaries(void) { /* async-signal-safe: unlink only */
     unsigned used = atomic_load(&temp_ring_next);
     for (unsigned i = 0; i < SL_TEMP_RING && i < used; i++)
         if (temp_ring[i][0]) unlink(temp_ring[i]);
+}
+
+static void oom(size_t n) {
+    remove_temporaries();
     fprintf(stderr, "strandlight: out of memory allocating %zu bytes\n", n);
     fflush(stderr);
     _exit(1);
@@ -182,10 +189,63 @@ int sl_read_file(const char *path, unsigned char **data, size_t *size, size_t ma
 
 void sl_temp_name(const char *path, char *tmp, size_t tmp_size) {
     static atomic_uint counter; /* threads writing cache entries at once get distinct names */
-    snprintf(tmp, tmp_size, "%s.tmp%ld.%u", path, (long)getpid(), atomic_fetch_add(&counter, 1));
+    /* Unpredictable (issue 21): another user who can write the directory cannot plant a file
+     * or a symbolic link at the name in advance; sl_temp_create also refuses one (O_EXCL,
+     * O_NOFOLLOW). getrandom rarely fails; the fallback mixes the clock, pid and counter. */
+    unsigned long long r = 0;
+    if (getrandom(&r, sizeof r, GRND_NONBLOCK) != (ssize_t)sizeof r) {
+        struct timespec ts;
+        clock_gettime(CLOCK_REALTIME, &ts);
+        r = ((unsigned long long)ts.tv_nsec << 20) ^ (unsigned long long)ts.tv_sec ^
+            ((unsigned long long)getpid() << 40);
+    }
+    snprintf(tmp, tmp_size, "%s.tmp%ld.%u.%016llx", path, (long)getpid(),
+             atomic_fetch_add(&counter, 1), r);
     /* Remembered so that an out-of-memory exit can remove it (oom above). */
     unsigned slot = atomic_fetch_add(&temp_ring_next, 1) % SL_TEMP_RING;
     snprintf(temp_ring[slot], sizeof temp_ring[slot], "%s", tmp);
+}
+
+int sl_temp_create(const char *path, char *tmp, size_t tmp_size, sl_err *e) {
+    for (int attempt = 0; attempt < 16; attempt++) {
+        sl_temp_name(path, tmp, tmp_size);
+        /* 0666 less the umask, as any file the user creates; never an existing name, never
+         * through a symbolic link */
+        int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+        if (fd >= 0) return fd;
+        if (errno != EEXIST)
+            return sl_fail(e, "%s: cannot create a temporary file: %s", path, strerror(errno));
+    }
+    return sl_fail(e, "%s: no free temporary name", path);
+}
+
+static void on_fatal_signal(int sig) {
+    remove_temporaries();
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+void sl_install_temp_cleanup(void) {
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_fatal_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGHUP, &sa, NULL);
+}
+
+int sl_output_not_input(const char *path, const char *what, const char *const *inputs, int n,
+                        sl_err *e) {
+    struct stat so, si;
+    if (stat(path, &so) != 0) return 0; /* a new file cannot be an input */
+    for (int i = 0; i < n; i++) {
+        if (!inputs[i] || !inputs[i][0] || stat(inputs[i], &si) != 0) continue;
+        if (so.st_dev == si.st_dev && so.st_ino == si.st_ino)
+            return sl_fail(e, "%s: %s: is one of this run's inputs (%s): not overwritten", what,
+                           path, inputs[i]);
+    }
+    return 0;
 }
 
 int sl_output_precheck(const char *path, const char *what, sl_err *e) {
@@ -194,6 +254,8 @@ int sl_output_precheck(const char *path, const char *what, sl_err *e) {
     if (path[n - 1] == '/')
         return sl_fail(e, "%s: %s: is a directory, expected a file", what, path);
     struct stat st;
+    if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode))
+        return sl_fail(e, "%s: %s: is a symbolic link (neither followed nor replaced)", what, path);
     if (stat(path, &st) == 0) {
         if (S_ISDIR(st.st_mode))
             return sl_fail(e, "%s: %s: is a directory, expected a file", what, path);
@@ -244,9 +306,19 @@ int sl_atomic_open(sl_atomic_file *af, const char *path, sl_err *e) {
     if (strlen(path) + 32 >= sizeof af->path) return sl_fail(e, "%s: path too long", path);
     if (sl_make_parent_dirs(path, e)) return -1;
     snprintf(af->path, sizeof af->path, "%s", path);
-    sl_temp_name(path, af->tmp_path, sizeof af->tmp_path);
-    af->fp = fopen(af->tmp_path, "wb");
-    if (!af->fp) return sl_fail(e, "%s: cannot write: %s", path, strerror(errno));
+    int fd = sl_temp_create(path, af->tmp_path, sizeof af->tmp_path, e);
+    if (fd < 0) {
+        af->tmp_path[0] = 0;
+        return -1;
+    }
+    af->fp = fdopen(fd, "wb");
+    if (!af->fp) {
+        int err = errno;
+        close(fd);
+        unlink(af->tmp_path);
+        af->tmp_path[0] = 0;
+        return sl_fail(e, "%s: cannot write: %s", path, strerror(err));
+    }
     return 0;
 }
 

@@ -61,9 +61,19 @@ int sl_atomic_commit(sl_atomic_file *af, sl_err *e); /* closes and renames */
 void sl_atomic_abort(sl_atomic_file *af);            /* closes and removes */
 /* For writers that open files themselves (OpenEXRCore): a unique temporary name beside path. */
 void sl_temp_name(const char *path, char *tmp, size_t tmp_size);
+/* Creates that temporary (O_CREAT | O_EXCL | O_NOFOLLOW, mode 0666 less the umask) and returns
+ * its descriptor, or -1 with e set; the name is in tmp. */
+int sl_temp_create(const char *path, char *tmp, size_t tmp_size, sl_err *e);
+/* SIGINT, SIGTERM and SIGHUP remove this process's recent temporaries before it dies (main). */
+void sl_install_temp_cleanup(void);
+/* An existing output that is one of inputs[0..n-1] (the same file, by device and inode, under
+ * any name): a one-line error naming both. */
+int sl_output_not_input(const char *path, const char *what, const char *const *inputs, int n,
+                        sl_err *e);
 /* Creates the parent directories of a file path (like mkdir -p on dirname). */
 /* Checks before any work that `path` can be written as a new or replaced regular file: not
- * empty, not a directory (nor ending in '/'), an existing target a regular file, and its directory
+ * empty, not a directory (nor ending in '/'), an existing target a regular file (not a symbolic
+ * link, a device, a FIFO or a socket: refused, nothing touched), and its directory
  * either existing and writable or one missing level below an existing writable directory (which
  * sl_make_parent_dirs then creates; deeper missing trees are refused: a typo should not build
  * directories anywhere). `what` names the option or key in the message. Returns 0 or -1. */

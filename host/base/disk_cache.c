@@ -206,17 +206,11 @@ int sl_cache_write(const char *path, uint32_t format, sl_cache_key key, const sl
     unsigned char h[HEAD_BYTES];
     head_pack(h, format, key, n, hash);
     if (sl_make_parent_dirs(path, e)) return -1;
-    /* sl_temp_name is unique per process and call (and remembered for the out-of-memory exit's
-     * clean-up); O_EXCL makes sure no other writer, whatever its name scheme, shares the file. */
+    /* sl_temp_create: an unpredictable name (remembered for the clean-up on out of memory or a
+     * signal), O_EXCL | O_NOFOLLOW: no other writer, file or link shares it. */
     char tmp[4200];
-    int fd = -1;
-    for (int attempt = 0; attempt < 16 && fd < 0; attempt++) {
-        sl_temp_name(path, tmp, sizeof tmp);
-        fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd < 0 && errno != EEXIST)
-            return sl_fail(e, "%s: cannot create a temporary file: %s", path, strerror(errno));
-    }
-    if (fd < 0) return sl_fail(e, "%s: no free temporary name", path);
+    int fd = sl_temp_create(path, tmp, sizeof tmp, e);
+    if (fd < 0) return -1;
     int bad = write_all(fd, h, sizeof h);
     for (int i = 0; i < nparts && !bad; i++)
         bad = write_all(fd, parts[i].data, parts[i].size);

@@ -31,8 +31,7 @@ static const char *usage_text =
     "  --csv               machine form: quantity,r,g,b,avg\n";
 
 int cmd_compare(int argc, char **argv) {
-    const char *files[3] = {NULL, NULL, NULL}, *ours2 = NULL, *v, *layer = NULL,
-               *ref_layer = NULL;
+    const char *files[3] = {NULL, NULL, NULL}, *ours2 = NULL, *v, *layer = NULL, *ref_layer = NULL;
     int nfiles = 0, csv = 0, missing = 0, mode = SL_OURS_INDEPENDENT, half = 0;
     long block = 8;
     for (int i = 1; i < argc; i++) {

@@ -72,8 +72,7 @@ static int run_path(const sl_scene *s, sl_path_settings *ps, const char *out, in
     ps->cancel = &interrupted;
     sl_path_result r;
     memset(&r, 0, sizeof r);
-    /* before the render: a long render should not end in an unwritable path */
-    int rc = sl_output_precheck(out, "-o", e) ? -1 : sl_path_run(s, ps, out, force, &r, e);
+    int rc = sl_path_run(s, ps, out, force, &r, e); /* the output was checked by cmd_reference */
     if (rc) return r.interrupted ? 130 : 1;
     char nz[64] = "n/a (fewer than 2 spp)";
     if (isfinite(r.noise))
@@ -187,6 +186,13 @@ int cmd_reference(int argc, char **argv) {
     sl_scene *s = sl_malloc(sizeof *s);
     int rc = 1;
     if (sl_scene_load(scene_path, s, &e)) goto done;
+    {
+        /* before anything is removed or rendered: a writable output that is none of the inputs */
+        const char *inputs[] = {s->path, s->hair_file, s->strand_sigma_a, s->env_file,
+                                s->env_lobes};
+        if (sl_output_precheck(out, "-o", &e) || sl_output_not_input(out, "-o", inputs, 5, &e))
+            goto done;
+    }
     if (force) {
         char json[4200];
         snprintf(json, sizeof json, "%s.json", out);

@@ -287,6 +287,19 @@ int cmd_render(int argc, char **argv) {
     if (sl_output_precheck(exr_path, exr ? "--exr" : "output.exr", &e)) goto done;
     if (png_path && png_path[0] && sl_output_precheck(png_path, png ? "--png" : "output.png", &e))
         goto done;
+    {
+        /* never over one of this run's own inputs (issue 21), nor both outputs on one file */
+        const char *inputs[] = {scene_path,  s->hair_file, s->strand_sigma_a,
+                                s->env_file, s->env_lobes, png_path};
+        if (sl_output_not_input(exr_path, exr ? "--exr" : "output.exr", inputs, 6, &e)) goto done;
+        if (png_path && png_path[0] &&
+            sl_output_not_input(png_path, png ? "--png" : "output.png", inputs, 5, &e))
+            goto done;
+        if (png_path && png_path[0] && strcmp(png_path, exr_path) == 0) {
+            sl_fail(&e, "--png: %s: the same file as the EXR output", png_path);
+            goto done;
+        }
+    }
     if (sl_device_open(device, &dev, &e)) goto done;
     if (render_check_limits(s, ro.shadow_size, &dev, &e)) goto done;
     if (sl_scene_inputs_finish(&in, &io, &e)) goto done;

@@ -41,6 +41,8 @@ static void usage(FILE *fp) {
 }
 
 int main(int argc, char **argv) {
+    /* a killed run leaves no temporary output behind (issue 21) */
+    sl_install_temp_cleanup();
     /* --quiet, for every command: no notes, status lines or progress bars on stderr (warnings
      * and errors stay); taken out before the command parses its options. */
     int n = 1;

@@ -1,5 +1,6 @@
 /* viewer_gl.c: window, shaders, frame upload (PBO, or cl_khr_gl_sharing through viewer_gl_cl.c)
- * and screenshots of the viewer; see viewer_gl.h. Measured on Mesa llvmpipe under Xvfb (docs/viewer.md). */
+ * and screenshots of the viewer; see viewer_gl.h. Measured on Mesa llvmpipe under Xvfb
+ * (docs/viewer.md). */
 #include "viewer/viewer_gl.h"
 
 #include <stb/stb_image_write.h>
@@ -17,8 +18,8 @@ static const char *vs_src =
     "  gl_Position = vec4(p - 1.0, 0.0, 1.0);\n"
     "}\n";
 
-/* The display transform of sl_png_write (host/io/image/image_write.h): un-premultiply, ACES filmic fit
- * of Narkowicz 2015 clamped to [0, 1], exact sRGB OETF; alpha stays linear. The frame's row 0
+/* The display transform of sl_png_write (host/io/image/image_write.h): un-premultiply, ACES filmic
+ * fit of Narkowicz 2015 clamped to [0, 1], exact sRGB OETF; alpha stays linear. The frame's row 0
  * is the top, uploaded first, so v is flipped. */
 static const char *fs_display =
     "#version 330 core\n"
@@ -216,6 +217,11 @@ int sl_vgl_to_image(const sl_viewer_gl *g, double wx, double wy, double *ix, dou
     return 1;
 }
 
+/* stb_image_write's sink: the bytes go to the atomic file's stream. */
+static void shot_write(void *ctx, void *data, int size) {
+    fwrite(data, 1, (size_t)size, (FILE *)ctx);
+}
+
 int sl_vgl_screenshot(sl_viewer_gl *g, const char *path, int whole_window, sl_err *e) {
     int w = g->fbo_w, h = g->fbo_h;
     if (whole_window) {
@@ -242,20 +248,15 @@ int sl_vgl_screenshot(sl_viewer_gl *g, const char *path, int whole_window, sl_er
         for (size_t i = 0; i < (size_t)w * h; i++)
             px[4 * i + 3] = 255;
     free(row);
-    char tmp[4200];
     int rc = -1;
-    if (sl_make_parent_dirs(path, e)) goto done;
-    sl_temp_name(path, tmp, sizeof tmp);
-    if (!stbi_write_png(tmp, w, h, 4, px, w * 4)) {
-        remove(tmp);
+    sl_atomic_file af; /* a temporary of our own (O_EXCL | O_NOFOLLOW), renamed into place */
+    if (sl_atomic_open(&af, path, e)) goto done;
+    if (!stbi_write_png_to_func(shot_write, af.fp, w, h, 4, px, w * 4)) {
+        sl_atomic_abort(&af);
         sl_fail(e, "%s: cannot write the screenshot", path);
         goto done;
     }
-    if (rename(tmp, path) != 0) {
-        remove(tmp);
-        sl_fail(e, "%s: cannot write the screenshot", path);
-        goto done;
-    }
+    if (sl_atomic_commit(&af, e)) goto done;
     rc = 0;
 done:
     free(px);

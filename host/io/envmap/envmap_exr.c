@@ -414,8 +414,7 @@ static int make_plan(const exr_attr_chlist_t *chl, const char *name, int with_al
 
 /* sl_envmap_decode_exr, and with with_alpha the A plane too, into *alpha (w*h, caller frees). */
 static int decode_exr(const unsigned char *data, size_t n, const char *name, int force_cxx,
-                      int with_alpha, const char *layer, sl_envmap *out, float **alpha,
-                      sl_err *e) {
+                      int with_alpha, const char *layer, sl_envmap *out, float **alpha, sl_err *e) {
     sl_err local;
     if (!e) e = &local;
     memset(out, 0, sizeof *out);

@@ -7,7 +7,9 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <errno.h>
 #include <string.h>
+#include <unistd.h>
 
 #define HALF_MAX 65504.0f
 
@@ -15,6 +17,24 @@ static void exr_quiet(exr_const_context_t c, exr_result_t code, const char *msg)
     (void)c;
     (void)code;
     (void)msg; /* the return code is reported instead */
+}
+
+/* OpenEXRCore's write callback on a descriptor (user data: the int fd): all of sz at offset. */
+static int64_t exr_write_fd(exr_const_context_t ctx, void *user, const void *buf, uint64_t sz,
+                            uint64_t offset, exr_stream_error_func_ptr_t error_cb) {
+    int fd = *(const int *)user;
+    const char *p = buf;
+    uint64_t done = 0;
+    while (done < sz) {
+        ssize_t k = pwrite(fd, p + done, (size_t)(sz - done), (off_t)(offset + done));
+        if (k < 0 && errno == EINTR) continue;
+        if (k <= 0) {
+            if (error_cb) error_cb(ctx, EXR_ERR_WRITE_IO, "write failed: %s", strerror(errno));
+            return -1;
+        }
+        done += (uint64_t)k;
+    }
+    return (int64_t)sz;
 }
 
 static int check_channels(const char *path, int w, int h, const sl_exr_channel *ch, int nch,
@@ -99,9 +119,14 @@ int sl_exr_write(const char *path, int w, int h, const sl_exr_channel *ch, int n
     if (check_channels(path, w, h, ch, nch, e)) return -1;
     if (sl_make_parent_dirs(path, e)) return -1;
     char tmp[4200];
-    sl_temp_name(path, tmp, sizeof tmp);
+    int fd = sl_temp_create(path, tmp, sizeof tmp, e);
+    if (fd < 0) return -1;
+    /* OpenEXRCore writes through our descriptor (write_fn): the temporary was created here with
+     * O_EXCL | O_NOFOLLOW, never reopened by name. */
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
     init.error_handler_fn = exr_quiet;
+    init.user_data = &fd;
+    init.write_fn = exr_write_fd;
     exr_context_t ctx = NULL;
     const char *stage = "cannot create file";
     exr_result_t rv = exr_start_write(&ctx, tmp, EXR_WRITE_FILE_DIRECTLY, &init);
@@ -126,6 +151,10 @@ int sl_exr_write(const char *path, int w, int h, const sl_exr_channel *ch, int n
     if (rv == EXR_ERR_SUCCESS && frv != EXR_ERR_SUCCESS) {
         rv = frv;
         stage = "finishing file";
+    }
+    if (close(fd) != 0 && rv == EXR_ERR_SUCCESS) {
+        rv = EXR_ERR_WRITE_IO;
+        stage = "closing file";
     }
     if (rv != EXR_ERR_SUCCESS) {
         remove(tmp);

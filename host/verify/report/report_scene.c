@@ -703,13 +703,44 @@ static int write_svg(const char *path, const run_res *r, int n, const sl_referen
     return sl_atomic_commit(&af, e);
 }
 
+/* The file every report directory holds: `report -o DIR` replaces only a directory that has it
+ * (or an empty one), so it never deletes a user's own files (issue 21). */
+#define SL_REPORT_MANIFEST ".strandlight-report"
+
+/* An existing -o DIR must be a report directory (its manifest) or empty; anything else is
+ * refused before the work, nothing in it touched. */
+static int out_dir_ok(const char *dir, sl_err *e) {
+    struct stat st;
+    if (lstat(dir, &st) != 0) return 0; /* new */
+    if (S_ISLNK(st.st_mode))
+        return sl_fail(e, "report: -o %s: is a symbolic link (neither followed nor replaced)", dir);
+    if (!S_ISDIR(st.st_mode))
+        return sl_fail(e, "report: -o %s: exists and is not a directory", dir);
+    char m[4400];
+    snprintf(m, sizeof m, "%s/%s", dir, SL_REPORT_MANIFEST);
+    if (lstat(m, &st) == 0 && S_ISREG(st.st_mode)) return 0;
+    DIR *d = opendir(dir);
+    if (!d) return sl_fail(e, "report: -o %s: %s", dir, strerror(errno));
+    struct dirent *de;
+    int other = 0;
+    while ((de = readdir(d)))
+        if (strcmp(de->d_name, ".") && strcmp(de->d_name, "..")) other = 1;
+    closedir(d);
+    if (other)
+        return sl_fail(e,
+                       "report: -o %s: exists and is not a report directory (no %s in it): "
+                       "nothing in it is touched; choose a new or empty directory",
+                       dir, SL_REPORT_MANIFEST);
+    return 0;
+}
+
 /* Removes a previous report directory (only the files this command writes; anything else
  * makes the rmdir fail, and the error says so). */
 static int report_file(const char *name) {
     size_t n = strlen(name);
-    if (!strcmp(name, "results.csv") || !strcmp(name, "report.md") ||
-        !strcmp(name, "error_vs_time.svg") || !strcmp(name, "reference.png") ||
-        !strcmp(name, "reference_fragments.png"))
+    if (!strcmp(name, SL_REPORT_MANIFEST) || !strcmp(name, "results.csv") ||
+        !strcmp(name, "report.md") || !strcmp(name, "error_vs_time.svg") ||
+        !strcmp(name, "reference.png") || !strcmp(name, "reference_fragments.png"))
         return 1;
     return !strncmp(name, "heat_", 5) && n > 9 && !strcmp(name + n - 4, ".png");
 }
@@ -778,6 +809,7 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
     char tmpdir[4400] = "";
 
     if (sl_scene_inputs_open(o->scene, &io, &in, e)) goto done;
+    if (o->out_dir && out_dir_ok(o->out_dir, e)) goto done; /* before any long work */
     sl_scene *s = in.scene;
     if (!s->env_file[0]) {
         sl_fail(e,
@@ -826,6 +858,7 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
     size_t odl = strlen(out_dir);
     while (odl > 1 && out_dir[odl - 1] == '/')
         out_dir[--odl] = 0;
+    if (out_dir_ok(out_dir, e)) goto done;
 
     /* reference: cached beside the report directory (survives the directory's replacement) */
     char parent[4096], ref_path[4600];
@@ -955,16 +988,28 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
     mark_pareto(res, nruns, MET_FRAG);
 
     /* outputs into a temporary directory, renamed at the end */
-    snprintf(tmpdir, sizeof tmpdir, "%s.tmp.%ld", out_dir, (long)getpid());
+    /* an unpredictable name of our own (mkdtemp: created 0700, then opened up as the umask
+     * allows), never an existing directory or link */
+    if (sl_make_parent_dirs(out_dir, e)) goto done;
+    snprintf(tmpdir, sizeof tmpdir, "%s.tmp.XXXXXX", out_dir);
+    if (!mkdtemp(tmpdir)) {
+        sl_fail(e, "%s: cannot create a temporary directory: %s", out_dir, strerror(errno));
+        tmpdir[0] = 0;
+        goto done;
+    }
     {
-        char probe[4500];
-        snprintf(probe, sizeof probe, "%s/x", tmpdir);
-        if (sl_make_parent_dirs(probe, e)) {
-            tmpdir[0] = 0;
-            goto done;
-        }
+        mode_t um = umask(022);
+        umask(um);
+        chmod(tmpdir, 0777 & ~um);
     }
     char p[4500];
+    snprintf(p, sizeof p, "%s/%s", tmpdir, SL_REPORT_MANIFEST);
+    {
+        sl_atomic_file mf;
+        if (sl_atomic_open(&mf, p, e)) goto done;
+        fprintf(mf.fp, "strandlight report directory: `report -o` replaces it whole\n");
+        if (sl_atomic_commit(&mf, e)) goto done;
+    }
     snprintf(p, sizeof p, "%s/reference.png", tmpdir);
     if (sl_png_write(p, w, hgt, ref.rgba, 0.0f, e)) goto done;
     snprintf(p, sizeof p, "%s/reference_fragments.png", tmpdir);

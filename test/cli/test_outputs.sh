@@ -1,0 +1,74 @@
+# test_outputs.sh: safe outputs (issue 21, docs/robustness.md "Outputs"): an output path that is
+# a FIFO, a device, a symbolic link, one of the run's own inputs (scene, map, lobes) or the
+# other output of the same run is refused with one line and exit 1, and nothing is touched;
+# `report -o DIR` never deletes a directory's files it did not write (only a directory holding
+# its manifest, or an empty one, is replaced); temporaries have unpredictable names, refuse an
+# existing file, and are gone after a normal run and after SIGTERM.
+. test/cli/lib.sh
+D="$TMP/outputs"
+rm -rf "$D"
+mkdir -p "$D"
+cat > "$D/lobes.json" <<'JSON'
+{"lobes": [{"dir": [0, 1, 0], "lambda": 0.5, "rgb": [1, 0.9, 0.8]}]}
+JSON
+cat > "$D/s.json" <<'JSON'
+{"hair": {"procedural": {"style": "wavy", "strands": 30, "points": 8, "seed": 1}, "radius": 0.05},
+ "material": {"model": "chiang", "melanin": 0.5},
+ "environment": {"lobes": "lobes.json"}, "camera": {"fov_deg": 30},
+ "image": {"width": 24, "height": 16}, "quality": {"multiple_scattering": "off"}}
+JSON
+cp "$D/s.json" "$D/s.orig"
+cp "$D/lobes.json" "$D/lobes.orig"
+r() { "$SL" render "$D/s.json" --device c --quiet "$@"; }
+
+mkfifo "$D/fifo"
+expect_error out_fifo_refused "fifo: exists and is not a regular file" r --exr "$D/fifo"
+if [ -p "$D/fifo" ]; then pass out_fifo_kept; else fail out_fifo_kept "the FIFO was replaced"; fi
+expect_error out_device_refused "/dev/null: exists and is not a regular file" r --exr /dev/null
+if [ -c /dev/null ]; then pass out_device_kept; else fail out_device_kept "/dev/null is no device"; fi
+echo keep > "$D/target"
+ln -s target "$D/link"
+expect_error out_symlink_refused "link: is a symbolic link" r --exr "$D/link"
+if [ -L "$D/link" ] && [ "$(cat "$D/target")" = keep ]; then pass out_symlink_kept
+else fail out_symlink_kept "link or its target changed"; fi
+expect_error out_is_scene "s.json: is one of this run's inputs" r --exr "$D/s.json"
+expect_error out_png_is_lobes "lobes.json: is one of this run's inputs" r --exr "$D/a.exr" --png "$D/lobes.json"
+# the same file under another name (a hard link) is still the input
+ln "$D/s.json" "$D/hard.json"
+expect_error out_is_scene_hardlink "hard.json: is one of this run's inputs" r --exr "$D/hard.json"
+expect_error out_png_is_exr "the same file as the EXR output" r --exr "$D/a.exr" --png "$D/a.exr"
+expect_error out_reference_is_scene "s.json: is one of this run's inputs" \
+    "$SL" reference "$D/s.json" --path --spp 1 -o "$D/s.json"
+if cmp -s "$D/s.json" "$D/s.orig" && cmp -s "$D/lobes.json" "$D/lobes.orig"; then pass out_inputs_intact
+else fail out_inputs_intact "an input was changed"; fi
+if [ ! -e "$D/a.exr" ]; then pass out_refused_writes_nothing; else fail out_refused_writes_nothing "a.exr exists"; fi
+
+# a normal run: the outputs, 0644 under umask 022, no temporaries left
+( umask 022; r --exr "$D/ok.exr" --png "$D/ok.png" ) >/dev/null 2>&1
+m=$(stat -c %a "$D/ok.exr" 2>/dev/null)
+if [ -s "$D/ok.exr" ] && [ -s "$D/ok.png" ] && [ "$m" = 644 ]; then pass out_normal_run
+else fail out_normal_run "mode '$m'"; fi
+# killed at some point of a longer run (several frames): no temporary left, whatever the moment
+for t in 0.3 0.8 1.5; do
+    timeout -s TERM "$t" "$SL" render "$D/s.json" --device c --quiet --orbit 40 --exr "$D/orbit.exr" >/dev/null 2>&1
+done
+left=$(ls -a "$D" | grep -c '\.tmp' || true)
+if [ "$left" -eq 0 ]; then pass out_sigterm_no_temporaries
+else fail out_sigterm_no_temporaries "$(ls -a "$D" | grep '\.tmp')"; fi
+
+sed "s#\"lobes\": \"lobes.json\"#\"file\": \"$PWD/data/env/city_256.hdr\"#" "$D/s.json" > "$D/rs.json"
+# report -o: a directory with a user's file is refused, the file kept; a fresh directory gets the
+# manifest, and a second report replaces it
+mkdir -p "$D/mine"
+echo "my notes" > "$D/mine/results.csv"
+expect_error report_refuses_user_dir "mine: exists and is not a report directory" \
+    "$SL" report "$D/rs.json" --tiny --threads 1 -o "$D/mine"
+if [ "$(cat "$D/mine/results.csv")" = "my notes" ]; then pass report_user_file_kept
+else fail report_user_file_kept "results.csv changed"; fi
+if [ -z "${SL_OUTPUTS_SKIP_REPORT:-}" ]; then
+    "$SL" report "$D/rs.json" --tiny --threads 1 -o "$D/rep" >/dev/null 2>&1
+    "$SL" report "$D/rs.json" --tiny --threads 1 -o "$D/rep" >/dev/null 2>&1; rc=$?
+    if [ "$rc" -eq 0 ] && [ -f "$D/rep/.strandlight-report" ] && [ -s "$D/rep/results.csv" ] &&
+       [ "$(ls -d "$D"/rep.tmp* 2>/dev/null | wc -l)" -eq 0 ]; then pass report_replaces_its_own
+    else fail report_replaces_its_own "rc=$rc: $(ls -a "$D/rep" 2>&1 | tr '\n' ' ')"; fi
+fi
