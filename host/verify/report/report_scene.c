@@ -939,6 +939,7 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
 
     int ncfg = make_sweep(s, o->quick, o->tiny, have_cl, lobes_fixed, cfgs);
     int warmed[2] = {0, 0};
+    double sweep_t0 = sl_now();
     for (int i = 0; i < ncfg; i++) {
         run_cfg c = cfgs[i];
         sl_lobes *lobes;
@@ -977,11 +978,13 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
         measure(&fb, &ref, &ref_frag, s->material.model, rs);
         rs->heat = heat_map(&fb, &ref);
         sl_fbuf_free(&fb);
+        /* ETA from the mean wall time per run so far (warm-ups and measurements included) */
+        double per = (sl_now() - sweep_t0) / (double)(i + 1);
         sl_note("report: run %d/%d: %s %s lobes %d K %d m %d kappa %g voxels %d MS %s: %.3f s, "
-                "rel RMSE %.4f, p99 %.3f, frag %.4f",
+                "rel RMSE %.4f, p99 %.3f, frag %.4f (sweep %.0f s, about %.0f s left)",
                 i + 1, ncfg, c.opencl ? "opencl" : "c", method_name(c.method), c.lobes, c.layers,
                 c.m, c.kappa, c.voxels, rs->ms_on ? "on" : "off", dt, rs->rel_rmse, rs->p99,
-                rs->rel_rmse_frag);
+                rs->rel_rmse_frag, sl_now() - sweep_t0, per * (double)(ncfg - i - 1));
         nruns++;
     }
     mark_pareto(res, nruns, MET_PIXEL);
