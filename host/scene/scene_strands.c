@@ -48,9 +48,13 @@ int sl_strand_sigma_a_from_colors(const sl_hair *h, const sl_material *m, float 
                        "material.strand_sigma_a \"colors\": the hair (%s) has no per-point "
                        "colours",
                        h->format);
-    /* The contract's beta_R is a Gaussian width, standard deviation beta_R / sqrt(2)
-     * (numerics.md sec. 2); Chiang's beta_n is taken equal to the beta_m of that deviation. */
-    double bn = sl_chiang_beta_m(m->beta[0] / sqrt(2.0));
+    /* Chiang's beta_n is the azimuthal (radial) roughness: model chiang has it as a key; for
+     * the others, whose beta_R is a longitudinal width (marschner: a Gaussian width, standard
+     * deviation beta_R / sqrt(2); deon: the standard deviation, numerics.md sec. 2), it is taken
+     * equal to the beta_m of that deviation. */
+    double bn = m->model == SL_MODEL_CHIANG ? m->chiang.radial_roughness
+                : m->model == SL_MODEL_DEON ? sl_chiang_beta_m(m->beta[0])
+                                            : sl_chiang_beta_m(m->beta[0] / sqrt(2.0));
     float *sa = sl_malloc(3 * ((size_t)h->num_strands + 1) * sizeof *sa);
     for (uint32_t s = 0; s < h->num_strands; s++) {
         uint32_t a = h->strand_first[s], b = h->strand_first[s + 1];

@@ -1,5 +1,5 @@
-/* test_scene_strands.c: per-strand sigma_a overrides (host/scene/scene_strands.h): the CSV round trip
- * and its errors, "colors" from a .hair file with a colour array (Chiang 2016 Eq. 9 checked by
+/* test_scene_strands.c: per-strand sigma_a overrides (host/scene/scene_strands.h): the CSV round
+ * trip and its errors, "colors" from a .hair file with a colour array (Chiang 2016 Eq. 9 checked by
  * its forward form in double), the scene keys material.strand_sigma_a and the planner
  * thresholds quality.*_threshold (parse, defaults, range errors). The frame's use of them is in
  * test/plan/test_frame.c. */
@@ -155,6 +155,18 @@ TEST(scene_strands_from_colors) {
     if (sa) CHECK_REL(exp(-sqrt((double)sa[4]) * d), 1e-4, 1e-5);
     /* darker colour, more absorption */
     CHECK(sa && sa[0] < sa[1] && sa[1] < sa[2]);
+    free(sa);
+    /* model chiang: Chiang's beta_n is its own radial roughness (0.45 here), not a width */
+    sl_material mc;
+    sl_material_default(&mc);
+    mc.model = SL_MODEL_CHIANG;
+    mc.chiang.radial_roughness = 0.45;
+    sl_chiang_derive(&mc);
+    CHECK(sl_strand_sigma_a_from_colors(&h, &mc, &sa, &e) == 0);
+    double b = 0.45, dc = 5.969 - 0.215 * b + 2.532 * b * b - 10.73 * pow(b, 3) +
+                          5.574 * pow(b, 4) + 0.245 * pow(b, 5);
+    for (int q = 0; sa && q < 3; q++)
+        CHECK_REL(exp(-sqrt((double)sa[q]) * dc), mean0[q], 1e-5);
     free(sa);
     /* through the scene key */
     sl_scene s;

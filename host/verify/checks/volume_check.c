@@ -216,22 +216,31 @@ int slchk_ms_response(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_
 }
 
 /* kernels/dual.cl (the dual-scattering table's nodes on the device) against slc_dual_table, for
- * the three models' defaults (marschner; deon and chiang through kernels/dual_ec.h): 2e-5
+ * the three models' defaults (marschner; deon and chiang through kernels/dual_ec.h) and the
+ * energy-conserving models' extremes (a sharp kernel, the roughest, heavy absorption): 2e-5
  * relative, 1e-7 absolute (docs/volume.md). */
 int slchk_dual_table(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r,
                      sl_err *e) {
-    enum { NM = 3 };
+    enum { NM = 7 };
     sl_fiber_params fp[NM];
     for (int k = 0; k < NM; k++) {
         sl_material m;
         sl_material_default(&m);
-        m.model = k == 0 ? SL_MODEL_MARSCHNER : (k == 1 ? SL_MODEL_DEON : SL_MODEL_CHIANG);
+        m.model = k == 0 ? SL_MODEL_MARSCHNER : (k % 2 ? SL_MODEL_DEON : SL_MODEL_CHIANG);
+        if (k == 3) /* deon: a sharp detector (0.5 deg) and heavy absorption */
+            for (int p = 0; p < 3; p++)
+                m.beta[p] = 0.5 * M_PI / 180.0, m.sigma_a[p] = 50.0;
+        if (k == 5) /* deon: 60 deg, 8 orders */
+            for (int p = 0; p < 3; p++)
+                m.beta[p] = 60.0 * M_PI / 180.0, m.orders = 8;
+        if (k == 4) m.chiang.roughness = m.chiang.radial_roughness = 0.001; /* sharp */
+        if (k == 6) m.chiang.roughness = m.chiang.radial_roughness = 1.0;
         if (m.model == SL_MODEL_CHIANG) sl_chiang_derive(&m);
         sl_material_to_fiber(&m, 0, &fp[k]);
     }
     float *a = sl_malloc(NM * SL_DUAL_TABLE_FLOATS * sizeof *a),
           *b = sl_malloc(NM * SL_DUAL_TABLE_FLOATS * sizeof *b);
-    snprintf(r->problem, sizeof r->problem, "%d models x %d nodes x %d rows", NM, SL_DUAL_N,
+    snprintf(r->problem, sizeof r->problem, "%d materials x %d nodes x %d rows", NM, SL_DUAL_N,
              SL_DUAL_ROWS);
     int rc = 0;
     r->c_s = r->cl_s = r->cl_wall_s = INFINITY;
