@@ -209,3 +209,35 @@ if have_shared && [ -f "$SHARED/hair/straight.hair" ] && [ -f "$SHARED/hair/tres
 else
     skip tfx_follow_errors "no ../shared hair"
 fi
+
+# geometry the float pipeline cannot render (issue 21: these rendered black with exit 0): valid
+# files, refused by render with one line naming the scene's hair.file and the problem
+$PY - "$D" <<'PYEOF'
+import struct, sys
+d = sys.argv[1]
+def hair(name, pts, thick):
+    n = len(pts) // 2
+    hdr = b"HAIR" + struct.pack("<IIII", n, 2 * n, 2, 1) + struct.pack("<ff", thick, 0.0)
+    hdr += struct.pack("<fff", 0.5, 0.5, 0.5)
+    with open(f"{d}/{name}.hair", "wb") as f:
+        f.write(hdr + b"\0" * (128 - len(hdr)))
+        for p in pts:
+            f.write(struct.pack("<3f", *p))
+hair("huge", [(-3e38, 0, 0), (3e38, 1, 0), (-3e38, 2, 0), (3e38, 3, 1)], 0.1)
+hair("tiny", [(0, 0, 0), (1e-38, 1e-38, 0), (2e-38, 0, 0), (0, 2e-38, 1e-38)], 1e-39)
+hair("fat", [(0, 0, 0), (1, 1, 0), (2, 0, 0), (0, 2, 1)], 3e38)
+hair("ok", [(0, 0, 0), (1, 1, 0), (2, 0, 0), (0, 2, 1)], 0.05)
+PYEOF
+printf '{"lobes": [{"dir": [0, 1, 0], "lambda": 0.5, "rgb": [1, 1, 1]}]}\n' > "$D/l.json"
+for h in huge tiny fat ok; do
+    printf '{"hair": {"file": "%s.hair"}, "environment": {"lobes": "l.json"}, "image": {"width": 16, "height": 12}}\n' "$h" > "$D/g_$h.json"
+done
+expect_error hair_coords_too_large "g_huge.json: hair.file: coordinates up to 3e+38: too large" \
+    "$SL" render "$D/g_huge.json" --device c --exr "$D/g.exr"
+expect_error hair_extent_too_small "g_tiny.json: hair.file: extent" \
+    "$SL" render "$D/g_tiny.json" --device c --exr "$D/g.exr"
+expect_error hair_radius_too_large "g_fat.json: hair.file: fiber radius up to 1.5e+38" \
+    "$SL" render "$D/g_fat.json" --device c --exr "$D/g.exr"
+if [ ! -e "$D/g.exr" ] && "$SL" render "$D/g_ok.json" --device c --quiet --exr "$D/g.exr" && [ -s "$D/g.exr" ]; then
+    pass hair_representable_renders
+else fail hair_representable_renders "the refused scenes wrote an image, or the ordinary one failed"; fi
