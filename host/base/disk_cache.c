@@ -13,7 +13,7 @@
 static const char cache_magic[8] = {'S', 'L', 'C', 'A', 'C', 'H', 'E', '0' + LAYOUT};
 #define HEAD_BYTES 48
 
-int sl_cache_dir_find(char *out, size_t out_size) {
+static int cache_dir_name(char *out, size_t out_size) {
     const char *v = getenv("SL_CACHE_DIR");
     if (v && *v) {
         if (strcmp(v, "off") == 0 || strcmp(v, "none") == 0) return 0;
@@ -31,6 +31,38 @@ int sl_cache_dir_find(char *out, size_t out_size) {
         return 1;
     }
     return 0;
+}
+
+/* A cache directory this process may trust (issue 21): ours, a directory, writable by nobody
+ * else; created 0700 (its parents as the umask allows) when it does not exist. Anything else:
+ * no cache, with one warning per process. Returns 1 when usable. */
+static int cache_dir_trusted(const char *dir) {
+    static int warned;
+    struct stat st;
+    if (stat(dir, &st) != 0) {
+        if (errno != ENOENT) return 0;
+        sl_err e;
+        /* its parents as any directory the user makes, then the directory itself 0700 */
+        if (sl_make_parent_dirs(dir, &e)) return 0;
+        if (mkdir(dir, 0700) != 0 && errno != EEXIST) return 0;
+        if (stat(dir, &st) != 0) return 0;
+    }
+    const char *why = !S_ISDIR(st.st_mode)                 ? "is not a directory"
+                      : st.st_uid != geteuid()             ? "belongs to another user"
+                      : (st.st_mode & (S_IWGRP | S_IWOTH)) ? "is writable by other users"
+                                                           : NULL;
+    if (!why) return 1;
+    if (!warned)
+        sl_warn("cache directory %s %s: not used (no disk cache this run; SL_CACHE_DIR chooses "
+                "another)",
+                dir, why);
+    warned = 1;
+    return 0;
+}
+
+int sl_cache_dir_find(char *out, size_t out_size) {
+    if (!cache_dir_name(out, out_size)) return 0;
+    return cache_dir_trusted(out);
 }
 
 int sl_cache_path(char *out, size_t out_size, const char *dir, const char *stem, sl_cache_key key,

@@ -23,7 +23,10 @@
 #include "base/common.h"
 
 /* Disk cache directory: $SL_CACHE_DIR, else $XDG_CACHE_HOME/strandlight (absolute values only),
- * else ~/.cache/strandlight; 0 when there is none (SL_CACHE_DIR=off or none, or no HOME). */
+ * else ~/.cache/strandlight; 0 when there is none (SL_CACHE_DIR=off or none, or no HOME). A
+ * missing one is created 0700; one that is not a directory, belongs to another user or others
+ * can write is not used (0, one warning per process): entries are trusted on their hash only,
+ * and another user could plant one with a matching hash. */
 int sl_cache_dir_find(char *out, size_t out_size);
 
 /* An entry's key: a hash of everything its payload depends on (each cache derives its own).

@@ -72,3 +72,24 @@ if [ -z "${SL_OUTPUTS_SKIP_REPORT:-}" ]; then
        [ "$(ls -d "$D"/rep.tmp* 2>/dev/null | wc -l)" -eq 0 ]; then pass report_replaces_its_own
     else fail report_replaces_its_own "rc=$rc: $(ls -a "$D/rep" 2>&1 | tr '\n' ' ')"; fi
 fi
+
+# the disk cache's directory: created 0700; one others can write, or another user's, is not used
+# (one warning, the render still succeeds, nothing written there)
+SL_CACHE_DIR="$D/cache/new" r --exr "$D/c1.exr" >/dev/null 2>&1
+m=$(stat -c %a "$D/cache/new" 2>/dev/null)
+if [ "$m" = 700 ] && [ -n "$(ls "$D/cache/new")" ]; then pass cache_dir_created_private
+else fail cache_dir_created_private "mode '$m', entries: $(ls "$D/cache/new" 2>&1 | head -3)"; fi
+mkdir -p "$D/cache/open"; chmod 777 "$D/cache/open"
+out=$(SL_CACHE_DIR="$D/cache/open" r --exr "$D/c2.exr" 2>&1); rc=$?
+if [ "$rc" -eq 0 ] && printf '%s' "$out" | grep -q "is writable by other users: not used" &&
+   [ -z "$(ls "$D/cache/open")" ] && [ -s "$D/c2.exr" ]; then pass cache_dir_open_refused
+else fail cache_dir_open_refused "rc=$rc: $out"; fi
+if [ "$(id -u)" = 0 ] && id nobody >/dev/null 2>&1; then
+    mkdir -p "$D/cache/theirs"; chown nobody "$D/cache/theirs"
+    out=$(SL_CACHE_DIR="$D/cache/theirs" r --exr "$D/c3.exr" 2>&1); rc=$?
+    if [ "$rc" -eq 0 ] && printf '%s' "$out" | grep -q "belongs to another user: not used" &&
+       [ -z "$(ls "$D/cache/theirs")" ]; then pass cache_dir_other_owner_refused
+    else fail cache_dir_other_owner_refused "rc=$rc: $out"; fi
+else
+    skip cache_dir_other_owner_refused "not root: cannot give a directory to another user"
+fi
