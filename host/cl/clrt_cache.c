@@ -8,6 +8,7 @@
  * hash, rejected by the driver) is ignored, rebuilt from source and rewritten atomically. */
 #include "cl/clrt.h"
 
+#include <ctype.h>
 #include <dirent.h>
 #include <errno.h>
 #include <limits.h>
@@ -127,8 +128,42 @@ static int key_add_headers(key_hash *h, const char *dir, sl_err *e) {
 #define CLBIN_FORMAT 2u
 
 /* Loads a valid entry into a built program, or returns -1 (missing, corrupt, rejected). */
+/* Every kernel the source declares (`__kernel void NAME(`) is in the program's kernel list: a
+ * cache entry whose key and hash are right but whose binary is another program's (forged, or
+ * copied over) is caught here, not by every later run failing (issue 21). */
+static int has_source_kernels(cl_program p, const unsigned char *src, size_t n) {
+    size_t len = 0;
+    if (clGetProgramInfo(p, CL_PROGRAM_KERNEL_NAMES, 0, NULL, &len) != CL_SUCCESS || len == 0)
+        return 0;
+    char *names = sl_malloc(len + 2);
+    names[0] = ';';
+    if (clGetProgramInfo(p, CL_PROGRAM_KERNEL_NAMES, len, names + 1, NULL) != CL_SUCCESS) {
+        free(names);
+        return 0;
+    }
+    names[len] = ';'; /* ";k1;k2;...;kn;" */
+    names[len + 1] = 0;
+    int ok = 1;
+    const char *kw = "__kernel void ";
+    size_t kl = strlen(kw);
+    for (size_t i = 0; ok && i + kl < n; i++) {
+        if (memcmp(src + i, kw, kl) != 0) continue;
+        size_t a = i + kl, b = a;
+        while (b < n && (isalnum((unsigned char)src[b]) || src[b] == '_'))
+            b++;
+        char want[160];
+        if (b == a || b - a + 3 > sizeof want) continue;
+        snprintf(want, sizeof want, ";%.*s;", (int)(b - a), (const char *)src + a);
+        ok = strstr(names, want) != NULL;
+        i = b;
+    }
+    free(names);
+    return ok;
+}
+
 static int cache_load(const sl_cl_build_target *t, const char *path, sl_cache_key key,
-                      const char *options, cl_program *prog) {
+                      const char *options, const unsigned char *src, size_t src_size,
+                      cl_program *prog) {
     void *data = NULL;
     size_t bin_size = 0;
     if (sl_cache_read(path, CLBIN_FORMAT, key, SL_MAX_CACHE_ENTRY, &data, &bin_size, NULL))
@@ -145,9 +180,10 @@ static int cache_load(const sl_cl_build_target *t, const char *path, sl_cache_ke
         if (err == CL_SUCCESS) clReleaseProgram(p);
         return -1;
     }
-    if (clBuildProgram(p, 1, &t->device, options, NULL, NULL) != CL_SUCCESS) {
+    if (clBuildProgram(p, 1, &t->device, options, NULL, NULL) != CL_SUCCESS ||
+        !has_source_kernels(p, src, src_size)) {
         clReleaseProgram(p);
-        return -1;
+        return -1; /* a miss: rebuilt from source, and the entry rewritten */
     }
     *prog = p;
     return 0;
@@ -221,7 +257,7 @@ int sl_cl_build_program(const sl_cl_build_target *t, const char *cl_file, const 
             char *dot = strrchr(stem, '.');
             if (dot) *dot = 0;
             if (sl_cache_path(entry, sizeof entry, t->cache_dir, stem, key, CLBIN_FORMAT) &&
-                cache_load(t, entry, key, opts, prog) == 0) {
+                cache_load(t, entry, key, opts, src, src_size, prog) == 0) {
                 *from_cache = 1;
                 free(src);
                 free(opts);

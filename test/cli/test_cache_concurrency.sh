@@ -83,4 +83,31 @@ else
         pass cache_conc_kernels_entries_valid
     else fail cache_conc_kernels_entries_valid "rc=$rc $(printf '%s' "$out" | tail -1)"; fi
     no_leftovers cache_conc_kernels_no_temp "$SL_CACHE_DIR"
+    # a forged entry (issue 21): prefix_sum's name, key and a valid hash, but another program's
+    # binary (dual's). It must be rebuilt from source, not fail this run and every later one.
+    "$SL" kernels --device "$SL_CL_DEVICE" --only dual --reps 1 >/dev/null 2>&1
+    ps=$(ls "$SL_CACHE_DIR"/prefix_sum-*.bin 2>/dev/null | head -1)
+    du=$(ls "$SL_CACHE_DIR"/dual-*.bin 2>/dev/null | head -1)
+    if [ -n "$ps" ] && [ -n "$du" ] && "${PY:-python3}" - "$ps" "$du" <<'PYEOF'
+import struct, sys
+ps, du = sys.argv[1], sys.argv[2]
+head = open(ps, "rb").read()[:48]
+body = open(du, "rb").read()[48:]
+h = 1469598103934665603
+for b in body:
+    h = ((h ^ b) * 1099511628211) & 0xFFFFFFFFFFFFFFFF
+open(ps, "wb").write(head[:32] + struct.pack("<QQ", len(body), h) + body)
+PYEOF
+    then
+        out=$("$SL" kernels --device "$SL_CL_DEVICE" --only prefix_sum_serial --size 64 --reps 1 2>&1); rc=$?
+        if [ $rc -eq 0 ] && printf '%s' "$out" | grep -q "1 built from source, 0 from the disk cache"; then
+            pass cache_forged_program_rebuilt
+        else fail cache_forged_program_rebuilt "rc=$rc $(printf '%s' "$out" | tail -2)"; fi
+        out=$("$SL" kernels --device "$SL_CL_DEVICE" --only prefix_sum_serial --size 64 --reps 1 2>&1); rc=$?
+        if [ $rc -eq 0 ] && printf '%s' "$out" | grep -q "0 built from source, 1 from the disk cache"; then
+            pass cache_forged_program_rewritten
+        else fail cache_forged_program_rewritten "rc=$rc $(printf '%s' "$out" | tail -2)"; fi
+    else
+        fail cache_forged_program_rebuilt "no prefix_sum / dual entries to forge: $(ls "$SL_CACHE_DIR")"
+    fi
 fi
