@@ -41,6 +41,7 @@ static void shadow_opts(const sl_renderer *r, const sl_scene *s, sl_shadow_opts 
     so->layers = sl_frame_shadow_layers(s);
     so->kappa = s->kappa > 0 ? s->kappa : 1.0;
     so->size = sl_frame_shadow_size(s, r->o.shadow_size);
+    so->z0_fibers = SL_SHADOW_Z0_FIBERS_SHADING; /* shading points lie on fibers */
 }
 
 uint64_t sl_light_settings(const sl_renderer *r, const sl_frame_inputs *in) {

@@ -22,12 +22,13 @@ void sl_shadow_opts_default(sl_shadow_opts *o) {
     o->kappa = 1.0;
     o->seed = 1;
     o->z0_radius = 0;
+    o->z0_fibers = 0; /* SL_SHADOW_Z0_FIBERS */
     o->threads = 0;
 }
 
 /* The automatic z0 window: its width (2 m + 2 texels with the tent footprint) spans
  * SL_SHADOW_Z0_FIBERS widened fibers of the hair's mean radius. */
-static int auto_z0_radius(const sl_hair *h, double kappa, double texel) {
+static int auto_z0_radius(const sl_hair *h, double kappa, double texel, double fibers) {
     double r = h->default_radius;
     if (h->radius && h->num_points) {
         double s = 0;
@@ -35,7 +36,7 @@ static int auto_z0_radius(const sl_hair *h, double kappa, double texel) {
             s += h->radius[i];
         r = s / h->num_points;
     }
-    double m = ceil((SL_SHADOW_Z0_FIBERS * 2.0 * r / kappa / texel - 2.0) / 2.0);
+    double m = ceil((fibers * 2.0 * r / kappa / texel - 2.0) / 2.0);
     if (!(m > 0)) return 0;
     return m > SL_SHADOW_Z0_MAX_RADIUS ? SL_SHADOW_Z0_MAX_RADIUS : (int)m;
 }
@@ -164,7 +165,8 @@ static int prep_make(const sl_hair *h, const sl_shadow_opts *o, prep *p, sl_err 
         o->z0_radius < 0 ? 0
         : o->z0_radius > 0
             ? (o->z0_radius > SL_SHADOW_Z0_MAX_RADIUS ? SL_SHADOW_Z0_MAX_RADIUS : o->z0_radius)
-            : auto_z0_radius(h, o->kappa, v.texel);
+            : auto_z0_radius(h, o->kappa, v.texel,
+                             o->z0_fibers > 0 ? o->z0_fibers : SL_SHADOW_Z0_FIBERS);
     p->threads = o->threads;
     if (p->threads <= 0) {
         p->threads = sl_parallel_cpus();

@@ -48,6 +48,12 @@
  * (docs/shadow.md). Capped at SL_SHADOW_Z0_MAX_RADIUS texels. */
 #define SL_SHADOW_Z0_FIBERS 30.0
 #define SL_SHADOW_Z0_MAX_RADIUS 32
+/* For points on the fibers themselves (the renderer's shading points): a window of 30 fibers
+ * pulls a surface fiber's first depth forward to neighbours that do not shadow it (on
+ * straight.hair an oblique lobe's T was 0.345x the traced value at 300 fiber points; with 3
+ * fibers 0.85x, the narrow lobe 0.89x -> 1.05x, wavy hair 0.92-0.95x -> 0.98-1.03x). Points
+ * between fibers (a slab's interior, eval transmittance) keep the 30 (docs/shadow.md). */
+#define SL_SHADOW_Z0_FIBERS_SHADING 3.0
 
 typedef struct sl_shadow_opts {
     int size;     /* map width = height in texels */
@@ -57,6 +63,10 @@ typedef struct sl_shadow_opts {
     /* Half-size (texels) of the min filter applied to the first-depth map z0 before the layers
      * are filled: 0 = automatic (SL_SHADOW_Z0_FIBERS), < 0 = none (Ren's per-texel z0). */
     int z0_radius;
+    /* The automatic window's width in fibers (0: SL_SHADOW_Z0_FIBERS). The renderer, which looks
+     * up only points on fibers, uses SL_SHADOW_Z0_FIBERS_SHADING (docs/shadow.md, "The window for
+     * shading points"). */
+    double z0_fibers;
     /* C path: threads rasterizing each map (segments split in contiguous ranges; the fixed-point
      * sums are exact, so the maps are the same for any count). 0 = every CPU (at most 16). */
     int threads;
