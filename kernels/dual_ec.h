@@ -103,8 +103,8 @@ SL_INLINE void sl_ec_geom_init(const sl_fiber_params *fp, float theta_d, sl_ec_g
     }
 }
 
-/* At gamma: A_p for p = 0..n into A[], the energy of the orders above n into *rest (uniform in
- * phi), and gamma_t into *gt (Phi_p = -2 gamma + p (2 gamma_t + pi)). */
+/* At gamma: A_p for p = 0..n into A[] (at least 4 floats), the energy of the orders above n into
+ * *rest (uniform in phi), and gamma_t into *gt (Phi_p = -2 gamma + p (2 gamma_t + pi)). */
 SL_INLINE void sl_ec_node(const sl_ec_geom *g, float gam, float *A, float *rest, float *gt) {
     float sg = sin(gam), cg = cos(gam);
     if (g->model == 1) {
@@ -121,17 +121,8 @@ SL_INLINE void sl_ec_node(const sl_ec_geom *g, float gam, float *A, float *rest,
         *rest = den > 0.0f ? a / den : 0.0f;
         return;
     }
-    float f, t;
-    sl_chiang_fresnel(g->cg.eta, g->cg.cos_o * cg, &f, &t);
-    float sgt = sg * g->cg.inv_etap;
-    *gt = asin(sl_clamp_unit(sgt));
-    float x = g->cg.tscale * sqrt(sl_maxf(1.0f - sgt * sgt, 0.0f));
-    float T = exp(-x);
-    A[0] = f;
-    A[1] = t * t * T;
-    A[2] = A[1] * T * f;
-    float den = -expm1(-x) + T * t; /* 1 - T f without cancellation */
-    *rest = den > 0.0f ? A[2] * T * f / den : 0.0f;
+    sl_chiang_node_A(&g->cg, sg, cg, A, gt); /* A[3]: every order p >= 3 together */
+    *rest = A[3];
 }
 
 /* (W * K)(y) for the triangle weight W(x) = |x| / pi (the forward share of a pair of

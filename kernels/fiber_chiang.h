@@ -80,6 +80,24 @@ SL_INLINE int sl_chiang_default_panels(const sl_fiber_params *fp) {
     return (int)ceil(n);
 }
 
+/* A_0, A_1, A_2 and A_3 (the sum over p >= 3) at h = sin g (sg, cg = sin, cos of g), and
+ * gamma_t into *gt: A_0 = f, A_1 = (1-f)^2 T, A_2 = A_1 T f, A_3 = A_2 T f / (1 - T f) (pbrt). */
+SL_INLINE void sl_chiang_node_A(const sl_chiang_geom *g, float sg, float cg, float A[4],
+                                float *gt) {
+    float f, t; /* t = 1 - f */
+    sl_chiang_fresnel(g->eta, g->cos_o * cg, &f, &t);
+    float sgt = sg * g->inv_etap;
+    *gt = asin(sl_clamp_unit(sgt));
+    float x = g->tscale * sqrt(sl_maxf(1.0f - sgt * sgt, 0.0f));
+    float T = exp(-x);
+    A[0] = f;
+    A[1] = t * t * T;
+    A[2] = A[1] * T * f;
+    /* 1 - T f = (1 - T) + T (1 - f): no cancellation when T and f are both near 1 */
+    float den = -expm1(-x) + T * t;
+    A[3] = den > 0.0f ? A[2] * T * f / den : 0.0f;
+}
+
 /* Nbar_p(phi) for p = 0, 1, 2 into np[] and E_3 into *e_rest, with `panels` 8-point
  * Gauss-Legendre panels over gamma in [0, pi/2]:
  *   Nbar_p(phi) = integral_0^{pi/2} A_p(sin g) cos g [L(phi - Phi_p) + L(-phi - Phi_p)] / 2 dg
@@ -93,17 +111,9 @@ SL_INLINE void sl_chiang_azimuthal(const sl_chiang_geom *g, float phi, int panel
         for (int j = 0; j < 8; j++) {
             float gam, w;
             sl_gl8_node(0.0f, hw, k, j, &gam, &w);
-            float sg = sin(gam), cg = cos(gam);
-            float f, t; /* t = 1 - f */
-            sl_chiang_fresnel(g->eta, g->cos_o * cg, &f, &t);
-            float sgt = sg * g->inv_etap;
-            float gt = asin(sl_clamp_unit(sgt));
-            float x = g->tscale * sqrt(sl_maxf(1.0f - sgt * sgt, 0.0f));
-            float T = exp(-x);
-            float a0 = f, a1 = t * t * T, a2 = a1 * T * f;
-            /* 1 - T f = (1 - T) + T (1 - f): no cancellation when T and f are both near 1 */
-            float den = -expm1(-x) + T * t;
-            float a3 = den > 0.0f ? a2 * T * f / den : 0.0f;
+            float cg = cos(gam), A[4], gt;
+            sl_chiang_node_A(g, sin(gam), cg, A, &gt);
+            float a0 = A[0], a1 = A[1], a2 = A[2], a3 = A[3];
             float wc = 0.5f * w * cg; /* 1/2 of [L(+) + L(-)] and dh = cos g dg */
             /* Phi_0 = -2g, Phi_{p+1} = Phi_p + 2 gt + pi, each kept in (-pi, pi] (float phase) */
             float ph = -2.0f * gam;
