@@ -809,7 +809,16 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
     char tmpdir[4400] = "";
 
     if (sl_scene_inputs_open(o->scene, &io, &in, e)) goto done;
-    if (o->out_dir && out_dir_ok(o->out_dir, e)) goto done; /* before any long work */
+    char out_dir[4096], name[256];
+    scene_name(o->scene, name, sizeof name);
+    if (o->out_dir)
+        snprintf(out_dir, sizeof out_dir, "%s", o->out_dir);
+    else
+        snprintf(out_dir, sizeof out_dir, "report/%s", name);
+    size_t odl = strlen(out_dir);
+    while (odl > 1 && out_dir[odl - 1] == '/')
+        out_dir[--odl] = 0;
+    if (out_dir_ok(out_dir, e)) goto done; /* before any long work (the lobe fit, below) */
     sl_scene *s = in.scene;
     if (!s->env_file[0]) {
         sl_fail(e,
@@ -848,17 +857,6 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
     if (get_lobes(s, s->lobes, sets, &nsets, &base_lobes, e)) goto done;
     int lobes_fixed = s->env_lobes[0] != 0; /* a lobes file: its count only */
     if (lobes_fixed) s->lobes = base_lobes->count;
-
-    char out_dir[4096], name[256];
-    scene_name(o->scene, name, sizeof name);
-    if (o->out_dir)
-        snprintf(out_dir, sizeof out_dir, "%s", o->out_dir);
-    else
-        snprintf(out_dir, sizeof out_dir, "report/%s", name);
-    size_t odl = strlen(out_dir);
-    while (odl > 1 && out_dir[odl - 1] == '/')
-        out_dir[--odl] = 0;
-    if (out_dir_ok(out_dir, e)) goto done;
 
     /* reference: cached beside the report directory (survives the directory's replacement) */
     char parent[4096], ref_path[4600];
