@@ -188,9 +188,10 @@ int cmd_reference(int argc, char **argv) {
     if (sl_scene_load(scene_path, s, &e)) goto done;
     {
         /* before anything is removed or rendered: a writable output that is none of the inputs */
-        const char *inputs[] = {s->path, s->hair_file, s->strand_sigma_a, s->env_file,
-                                s->env_lobes};
-        if (sl_output_precheck(out, "-o", &e) || sl_output_not_input(out, "-o", inputs, 5, &e))
+        const char *inputs[SL_SCENE_FILES];
+        sl_scene_files(s, inputs);
+        if (sl_output_precheck(out, "-o", &e) ||
+            sl_output_not_input(out, "-o", inputs, SL_SCENE_FILES, &e))
             goto done;
     }
     if (force) {

@@ -289,11 +289,14 @@ int cmd_render(int argc, char **argv) {
         goto done;
     {
         /* never over one of this run's own inputs (issue 21), nor both outputs on one file */
-        const char *inputs[] = {scene_path,  s->hair_file, s->strand_sigma_a,
-                                s->env_file, s->env_lobes, png_path};
-        if (sl_output_not_input(exr_path, exr ? "--exr" : "output.exr", inputs, 6, &e)) goto done;
+        const char *inputs[SL_SCENE_FILES + 1];
+        sl_scene_files(s, inputs);
+        inputs[SL_SCENE_FILES] = png_path; /* the EXR may not be the PNG either */
+        if (sl_output_not_input(exr_path, exr ? "--exr" : "output.exr", inputs, SL_SCENE_FILES + 1,
+                                &e))
+            goto done;
         if (png_path && png_path[0] &&
-            sl_output_not_input(png_path, png ? "--png" : "output.png", inputs, 5, &e))
+            sl_output_not_input(png_path, png ? "--png" : "output.png", inputs, SL_SCENE_FILES, &e))
             goto done;
         if (png_path && png_path[0] && strcmp(png_path, exr_path) == 0) {
             sl_fail(&e, "--png: %s: the same file as the EXR output", png_path);

@@ -395,6 +395,14 @@ static int read_stdin(unsigned char **data, size_t *size, size_t max, sl_err *e)
     return 0;
 }
 
+void sl_scene_files(const sl_scene *s, const char *files[SL_SCENE_FILES]) {
+    files[0] = s->path;
+    files[1] = s->hair_file;
+    files[2] = s->strand_sigma_a;
+    files[3] = s->env_file;
+    files[4] = s->env_lobes;
+}
+
 int sl_scene_load(const char *path, sl_scene *s, sl_err *e) {
     unsigned char *data;
     size_t n;

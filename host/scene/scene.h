@@ -80,5 +80,10 @@ void sl_scene_default(sl_scene *s);
 int sl_scene_load(const char *path, sl_scene *s, sl_err *e);
 /* Parses a scene from memory (file_name is used in messages and to resolve relative paths). */
 int sl_scene_parse(const char *text, size_t len, const char *file_name, sl_scene *s, sl_err *e);
+/* The files a scene reads, for the check that an output is none of them (sl_output_not_input):
+ * the scene file itself, hair.file, material.strand_sigma_a, environment.file and .lobes ("" where
+ * the scene has none). */
+#define SL_SCENE_FILES 5
+void sl_scene_files(const sl_scene *s, const char *files[SL_SCENE_FILES]);
 
 #endif
