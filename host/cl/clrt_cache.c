@@ -127,7 +127,6 @@ static int key_add_headers(key_hash *h, const char *dir, sl_err *e) {
  * with the key and an integrity hash); bump when that changes. */
 #define CLBIN_FORMAT 2u
 
-/* Loads a valid entry into a built program, or returns -1 (missing, corrupt, rejected). */
 /* Every kernel the source declares (`__kernel void NAME(`) is in the program's kernel list: a
  * cache entry whose key and hash are right but whose binary is another program's (forged, or
  * copied over) is caught here, not by every later run failing (issue 21). */
@@ -161,6 +160,8 @@ static int has_source_kernels(cl_program p, const unsigned char *src, size_t n) 
     return ok;
 }
 
+/* Loads a valid entry into a built program, or returns -1 (missing, corrupt, rejected, or
+ * without the source's kernels). */
 static int cache_load(const sl_cl_build_target *t, const char *path, sl_cache_key key,
                       const char *options, const unsigned char *src, size_t src_size,
                       cl_program *prog) {

@@ -5,9 +5,9 @@
 #include <openexr.h>
 #include <stb/stb_image_write.h>
 
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
-#include <errno.h>
 #include <string.h>
 #include <unistd.h>
 
