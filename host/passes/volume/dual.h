@@ -22,7 +22,9 @@ typedef struct sl_dual_tables {
     float tab[3][SL_DUAL_TABLE_FLOATS]; /* per channel; tab[c] for c >= nch copies tab[0] */
 } sl_dual_tables;
 
-/* Builds the tables of m (Marschner model). Returns 0, or -1 with e set for model deon. */
+/* Builds the tables of m, any model (marschner: kernels/dual_material.h; deon, chiang: their own
+ * A_p and N_p, kernels/dual_ec.h). Returns 0 (-1 with e set is kept for a model without terms;
+ * every model has them now). */
 int sl_dual_tables_build(const sl_material *m, sl_dual_tables *t, sl_err *e);
 
 /* Estimated share of multiple scattering in the light a dense hair volume returns, in [0, 1)
@@ -31,7 +33,7 @@ int sl_dual_tables_build(const sl_material *m, sl_dual_tables *t, sl_err *e);
  * infinite stack of such layers reflects R = ((1 + r^2 - t^2) - sqrt((1 + r^2 - t^2)^2 - 4 r^2))
  * / (2 r) (adding equations), of which r is single scattering; the share is
  * sum_c w_c (R_c - r_c) / sum_c w_c R_c with Rec. 709 luminance weights w. 0 when R = 0.
- * Returns -1 for a model it cannot evaluate (deon). */
+ * Returns -1 if the tables cannot be built (no model today). */
 double sl_dual_ms_share(const sl_material *m);
 
 /* The infinite-stack reflectance R(r, t) above (r, t >= 0, r + t <= 1). */
