@@ -23,8 +23,9 @@ void slc_srbf_batch(const sl_fiber_params *fp, const float *C, const float *H, i
     }
 }
 
-void slc_srbf_rgb_batch(const sl_fiber_params *fp, const float *C, const float *H, int method,
-                        int segments, size_t n, const float *in, const float *sigma_a, float *out) {
+void slc_srbf_rgb_scalar(const sl_fiber_params *fp, const float *C, const float *H, int method,
+                         int segments, size_t n, const float *in, const float *sigma_a,
+                         float *out) {
     for (size_t r = 0; r < n; r++) {
         const float *x = in + 5 * r;
         float sig[3] = {fp->sigma_a, fp->sigma_a, fp->sigma_a};
@@ -33,4 +34,9 @@ void slc_srbf_rgb_batch(const sl_fiber_params *fp, const float *C, const float *
         float *o = out + 9 * r;
         sl_srbf_rgb_row(fp, C, H, method, segments, x[0], x[1], x[2], x[3], x[4], sig, o);
     }
+}
+
+void slc_srbf_rgb_batch(const sl_fiber_params *fp, const float *C, const float *H, int method,
+                        int segments, size_t n, const float *in, const float *sigma_a, float *out) {
+    slc_srbf_rgb_scalar(fp, C, H, method, segments, n, in, sigma_a, out);
 }

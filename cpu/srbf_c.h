@@ -24,5 +24,10 @@ void slc_srbf_batch(const sl_fiber_params *fp, const float *C, const float *H, i
  * fp->sigma_a = sigma_a[3r + ch] to float rounding. */
 void slc_srbf_rgb_batch(const sl_fiber_params *fp, const float *C, const float *H, int method,
                         int segments, size_t n, const float *in, const float *sigma_a, float *out);
+/* The same, one sl_srbf_rgb_row per row: the reference the batch is tested and benchmarked
+ * against (test/passes/shade/test_srbf_batch.c, test/bench/bench_srbf.sh). */
+void slc_srbf_rgb_scalar(const sl_fiber_params *fp, const float *C, const float *H, int method,
+                         int segments, size_t n, const float *in, const float *sigma_a,
+                         float *out);
 
 #endif

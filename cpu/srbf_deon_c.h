@@ -20,5 +20,10 @@ void slc_srbf_deon_batch(const sl_fiber_params *fp, const float *C, const float 
 void slc_srbf_deon_rgb_batch(const sl_fiber_params *fp, const float *C, const float *H,
                              const float *D, size_t n, const float *in, const float *sigma_a,
                              float *out);
+/* The same, one sl_srbf_deon_rgb_row per row (the reference of the batch's reuse, for tests and
+ * benchmarks): equal to slc_srbf_deon_rgb_batch bit for bit. */
+void slc_srbf_deon_rgb_scalar(const sl_fiber_params *fp, const float *C, const float *H,
+                              const float *D, size_t n, const float *in, const float *sigma_a,
+                              float *out);
 
 #endif

@@ -56,20 +56,34 @@ static const float sl_srbf_ch_s[SL_SRBF_CH_NODES] = SL_SRBF_CH_S;
 /* Colour channels one evaluation serves (the renderer's rows: r, g, b differ in sigma_a only). */
 #define SL_SRBF_CH_MAXC 3
 
-/* What a row shares across theta_i, for nch channels. R (A_0 = f) does not depend on sigma_a:
- * one R for all channels. */
-typedef struct sl_srbf_chiang_row {
+/* What the rows of one shading point share (everything but the azimuth phi and the lobe): the
+ * renderer's rows come point by point (theta_o and sigma_a fixed, the lobes varying), so the
+ * C batch (cpu/srbf_deon_c.c) builds this once per point and the per-row work keeps only what
+ * depends on phi or the lobe. R (A_0 = f) does not depend on sigma_a: one R for all channels. */
+typedef struct sl_srbf_chiang_point {
     int nch;
-    float x, phi, s;
-    float d_nh;                /* the detector's last harmonic d_NH(s) */
-    float AR[SL_SRBF_W_NODES]; /* R, narrow: F - P at the 4 nodes */
-    float poly[6];             /* R, narrow: a_j cos^j theta_o / 4, the fit's terms in C_k */
-    float r_err;               /* R, narrow: the residual's interpolation error at phi */
-    float cR[SL_SRBF_CH_NHV];  /* R, wide: cos(n phi) d_n B_n */
+    float eta, co, x, ict, s;
+    float sig[SL_SRBF_CH_MAXC]; /* the channels' sigma_a */
+    float a[6];                 /* R's Fresnel fit at eta */
+    float d[SL_SRBF_CH_NHV];    /* the detector's harmonics d_n(s) */
+    float AR[SL_SRBF_W_NODES];  /* R, narrow: F - P at the 4 nodes */
+    float poly[6];              /* R, narrow: a_j cos^j theta_o / 4, the fit's terms in C_k */
+    float bR[SL_SRBF_CH_NHV];   /* R, wide: B_n */
     float A[SL_SRBF_CH_MAXC][2][SL_SRBF_W_NODES]; /* TT, TRT, narrow: A_p at the 4 nodes */
-    float c[SL_SRBF_CH_MAXC][2][SL_SRBF_CH_NHV];  /* TT, TRT, wide: cos(n phi) d_n B_n */
+    float b[SL_SRBF_CH_MAXC][2][SL_SRBF_CH_NHV];  /* TT, TRT, wide: B_n */
     float rest[SL_SRBF_CH_MAXC];                  /* N'_3 / z = E_3 / (2 pi) */
     float emax[3]; /* per group the largest energy over the channels, E_p / (2 pi) (R: 1 / 2pi) */
+    float restmax; /* the largest rest[ch] */
+    float dmax;    /* the trimmed logistic's peak 1 / (4 s tanh(pi / 2s)) */
+} sl_srbf_chiang_point;
+
+/* What one row adds: the terms that depend on phi. */
+typedef struct sl_srbf_chiang_row {
+    float phi;
+    float d_nh;               /* the detector's last harmonic d_NH(s) */
+    float r_err;              /* R, narrow: the residual's interpolation error at phi */
+    float cR[SL_SRBF_CH_NHV]; /* R, wide: cos(n phi) d_n B_n */
+    float c[SL_SRBF_CH_MAXC][2][SL_SRBF_CH_NHV]; /* TT, TRT, wide: cos(n phi) d_n B_n */
     float tt_err[SL_SRBF_CH_MAXC]; /* TT, narrow: the 4 nodes' interpolation error at phi */
 } sl_srbf_chiang_row;
 
@@ -121,23 +135,27 @@ SL_INLINE float sl_srbf_chiang_cgt(float sn, float x) {
     return sqrt(sl_maxf(1.0f - sg * sg, 0.0f));
 }
 
-/* The row's constants: A_p at the nodes (pbrt-v4 / numerics.md: Fresnel at cos theta_o c,
+/* The point's constants: A_p at the nodes (pbrt-v4 / numerics.md: Fresnel at cos theta_o c,
  * eta' = sqrt(eta^2 - sin^2 to) / cos to, T = exp(-2 sigma_a cos gamma_t / cos theta_t)), the
- * rest term's energy, R's narrow-branch correction, and per group the wide branch's sums; for
- * nch channels of absorption sig[ch] (NULL: fp->sigma_a). */
-SL_INLINE void sl_srbf_chiang_row_init(const sl_fiber_params *fp, SL_GLOBAL const float *D,
-                                       float theta_o, float phi, int nch, const float *sig,
-                                       sl_srbf_chiang_row *r) {
+ * rest term's energy, and per group the wide branch's B_n; for nch channels of absorption
+ * sig[ch] (NULL: fp->sigma_a). */
+SL_INLINE void sl_srbf_chiang_point_init(const sl_fiber_params *fp, SL_GLOBAL const float *D,
+                                         float theta_o, int nch, const float *sig,
+                                         sl_srbf_chiang_point *r) {
     float eta = fp->eta, so = sin(theta_o), co = sl_maxf(cos(theta_o), 0.0f);
     /* x = 1/eta' = cos to / sqrt(eta^2 - sin^2 to): 0 at grazing, no division by cos to */
     float x = sl_minf(co / sqrt(sl_maxf(eta * eta - so * so, 1e-30f)), 1.0f);
     float st = so / eta, ict = 2.0f / sqrt(sl_maxf(1.0f - st * st, 1e-30f)); /* 2 / cos t */
-    float a[6];
-    sl_srbf_deon_fit(D, eta, a);
+    sl_srbf_deon_fit(D, eta, r->a);
+    const float *a = r->a;
     r->nch = nch;
+    r->eta = eta;
+    r->co = co;
     r->x = x;
-    r->phi = phi;
+    r->ict = ict;
     r->s = fp->logistic_s;
+    for (int ch = 0; ch < nch; ch++)
+        r->sig[ch] = sig ? sig[ch] : fp->sigma_a;
     /* the narrow branch's 4 nodes (the W slices') */
     for (int i = 0; i < SL_SRBF_W_NODES; i++) {
         float ci = co * sl_srbf_w_c[i], F = sl_fresnel_exact(eta, ci);
@@ -145,7 +163,7 @@ SL_INLINE void sl_srbf_chiang_row_init(const sl_fiber_params *fp, SL_GLOBAL cons
         float cg = sl_srbf_chiang_cgt(sl_srbf_w_s[i], x);
         r->AR[i] = F - P;
         for (int ch = 0; ch < nch; ch++) {
-            float T = exp(-(sig ? sig[ch] : fp->sigma_a) * ict * cg);
+            float T = exp(-r->sig[ch] * ict * cg);
             float A1 = (1.0f - F) * (1.0f - F) * T;
             r->A[ch][0][i] = A1;
             r->A[ch][1][i] = A1 * T * F;
@@ -156,6 +174,71 @@ SL_INLINE void sl_srbf_chiang_row_init(const sl_fiber_params *fp, SL_GLOBAL cons
         r->poly[j] = a[j] * xp;
         xp *= co;
     }
+    /* the wide branch's 8 nodes; the rest term's energy sum_{p >= 3} A_p = A_2 T f / (1 - T f)
+     * by them (h_R[0][i] = the nodes' uniform-azimuth weights omega_i / (2 pi)) */
+    float F8[SL_SRBF_CH_NODES], A8[SL_SRBF_CH_MAXC][2][SL_SRBF_CH_NODES];
+    float e8[SL_SRBF_CH_MAXC][2];
+    for (int ch = 0; ch < nch; ch++)
+        r->rest[ch] = e8[ch][0] = e8[ch][1] = 0.0f;
+    for (int i = 0; i < SL_SRBF_CH_NODES; i++) {
+        float F = sl_fresnel_exact(eta, co * sl_srbf_ch_c[i]);
+        float cg = sl_srbf_chiang_cgt(sl_srbf_ch_s[i], x);
+        F8[i] = F;
+        for (int ch = 0; ch < nch; ch++) {
+            float T = exp(-r->sig[ch] * ict * cg);
+            float A1 = (1.0f - F) * (1.0f - F) * T, A2 = A1 * T * F, den = 1.0f - T * F;
+            A8[ch][0][i] = A1;
+            A8[ch][1][i] = A2;
+            e8[ch][0] += A1 * D[SL_SRBF_CH_R_OFF + i];
+            e8[ch][1] += A2 * D[SL_SRBF_CH_R_OFF + i];
+            if (den > 0.0f) r->rest[ch] += A2 * T * F / den * D[SL_SRBF_CH_R_OFF + i];
+        }
+    }
+    r->emax[0] = 1.0f / (2.0f * SL_PI_F);
+    r->emax[1] = r->emax[2] = 0.0f;
+    for (int ch = 0; ch < nch; ch++)
+        for (int g = 0; g < 2; g++)
+            r->emax[g + 1] = sl_maxf(r->emax[g + 1], e8[ch][g]);
+    r->restmax = 0.0f;
+    for (int ch = 0; ch < nch; ch++)
+        r->restmax = sl_maxf(r->restmax, r->rest[ch]);
+    float s = sl_maxf(fp->logistic_s, 1e-30f);
+    r->dmax = 0.25f / (s * tanh(0.5f * SL_PI_F / s));
+    sl_srbf_chiang_detector(D, r->s, r->d);
+    int ix;
+    float fx = sl_srbf_grid(x, 0.0f, 1.0f, SL_SRBF_CH_NX, &ix);
+    for (int n = 0; n < SL_SRBF_CH_NHV; n++) {
+        SL_GLOBAL const float *hr = D + SL_SRBF_CH_R_OFF + n * SL_SRBF_CH_NODES;
+        float b0 = 0.0f;
+        for (int i = 0; i < SL_SRBF_CH_NODES; i++)
+            b0 += F8[i] * hr[i];
+        r->bR[n] = b0;
+        for (int g = 0; g < 2; g++) {
+            SL_GLOBAL const float *h0 = D + SL_SRBF_CH_OFF + g * SL_SRBF_CH_SLICE +
+                                        (ix * SL_SRBF_CH_NHV + n) * SL_SRBF_CH_NODES;
+            SL_GLOBAL const float *h1 = h0 + SL_SRBF_CH_NHV * SL_SRBF_CH_NODES;
+            float h[SL_SRBF_CH_NODES];
+            for (int i = 0; i < SL_SRBF_CH_NODES; i++)
+                h[i] = h0[i] + (h1[i] - h0[i]) * fx;
+            for (int ch = 0; ch < nch; ch++) {
+                float b = 0.0f;
+                for (int i = 0; i < SL_SRBF_CH_NODES; i++)
+                    b += A8[ch][g][i] * h[i];
+                r->b[ch][g][n] = b;
+            }
+        }
+    }
+}
+
+/* The row's terms at azimuth phi: R's narrow-branch correction, TT's, and the wide branch's
+ * cos(n phi) d_n B_n. */
+SL_INLINE void sl_srbf_chiang_row_init(const sl_srbf_chiang_point *pt, float phi,
+                                       sl_srbf_chiang_row *r) {
+    const float *a = pt->a;
+    float eta = pt->eta, co = pt->co, x = pt->x, ict = pt->ict;
+    int nch = pt->nch;
+    r->phi = phi;
+    r->d_nh = pt->d[SL_SRBF_CH_NH];
     /* R at phi in the kernel -> 0 limit: N_0 = 1/4 c F(cos to c), c = |cos(phi/2)|, where the
      * narrow branch has 1/4 c (P + sum_i L_i(c) (F - P)_i): its error, added back there */
     {
@@ -166,7 +249,7 @@ SL_INLINE void sl_srbf_chiang_row_init(const sl_fiber_params *fp, SL_GLOBAL cons
             float L = 1.0f;
             for (int j = 0; j < SL_SRBF_W_NODES; j++)
                 if (j != i) L *= (c - sl_srbf_w_c[j]) / (sl_srbf_w_c[i] - sl_srbf_w_c[j]);
-            li += L * r->AR[i];
+            li += L * pt->AR[i];
         }
         r->r_err = 0.25f * c * (sl_fresnel_exact(eta, ci) - P - li);
     }
@@ -196,43 +279,13 @@ SL_INLINE void sl_srbf_chiang_row_init(const sl_fiber_params *fp, SL_GLOBAL cons
             }
             float cgt = sl_srbf_chiang_cgt(sn, x), wt = c / (2.0f * fabs(fd));
             for (int ch = 0; ch < nch; ch++) {
-                float T = exp(-(sig ? sig[ch] : fp->sigma_a) * ict * cgt), li = 0.0f;
+                float T = exp(-pt->sig[ch] * ict * cgt), li = 0.0f;
                 for (int i = 0; i < SL_SRBF_W_NODES; i++)
-                    li += L[i] * r->A[ch][0][i];
+                    li += L[i] * pt->A[ch][0][i];
                 r->tt_err[ch] = wt * ((1.0f - F) * (1.0f - F) * T - li);
             }
         }
     }
-    /* the wide branch's 8 nodes; the rest term's energy sum_{p >= 3} A_p = A_2 T f / (1 - T f)
-     * by them (h_R[0][i] = the nodes' uniform-azimuth weights omega_i / (2 pi)) */
-    float F8[SL_SRBF_CH_NODES], A8[SL_SRBF_CH_MAXC][2][SL_SRBF_CH_NODES];
-    float e8[SL_SRBF_CH_MAXC][2];
-    for (int ch = 0; ch < nch; ch++)
-        r->rest[ch] = e8[ch][0] = e8[ch][1] = 0.0f;
-    for (int i = 0; i < SL_SRBF_CH_NODES; i++) {
-        float F = sl_fresnel_exact(eta, co * sl_srbf_ch_c[i]);
-        float cg = sl_srbf_chiang_cgt(sl_srbf_ch_s[i], x);
-        F8[i] = F;
-        for (int ch = 0; ch < nch; ch++) {
-            float T = exp(-(sig ? sig[ch] : fp->sigma_a) * ict * cg);
-            float A1 = (1.0f - F) * (1.0f - F) * T, A2 = A1 * T * F, den = 1.0f - T * F;
-            A8[ch][0][i] = A1;
-            A8[ch][1][i] = A2;
-            e8[ch][0] += A1 * D[SL_SRBF_CH_R_OFF + i];
-            e8[ch][1] += A2 * D[SL_SRBF_CH_R_OFF + i];
-            if (den > 0.0f) r->rest[ch] += A2 * T * F / den * D[SL_SRBF_CH_R_OFF + i];
-        }
-    }
-    r->emax[0] = 1.0f / (2.0f * SL_PI_F);
-    r->emax[1] = r->emax[2] = 0.0f;
-    for (int ch = 0; ch < nch; ch++)
-        for (int g = 0; g < 2; g++)
-            r->emax[g + 1] = sl_maxf(r->emax[g + 1], e8[ch][g]);
-    float d[SL_SRBF_CH_NHV];
-    sl_srbf_chiang_detector(D, r->s, d);
-    r->d_nh = d[SL_SRBF_CH_NH];
-    int ix;
-    float fx = sl_srbf_grid(x, 0.0f, 1.0f, SL_SRBF_CH_NX, &ix);
     float c1 = cos(phi), cm = 1.0f, cn = c1; /* cos(n phi) by the Chebyshev recurrence */
     for (int n = 0; n < SL_SRBF_CH_NHV; n++) {
         float cosn = n == 0 ? 1.0f : cn;
@@ -241,34 +294,20 @@ SL_INLINE void sl_srbf_chiang_row_init(const sl_fiber_params *fp, SL_GLOBAL cons
             cm = cn;
             cn = nx;
         }
-        float w = cosn * d[n];
-        SL_GLOBAL const float *hr = D + SL_SRBF_CH_R_OFF + n * SL_SRBF_CH_NODES;
-        float b0 = 0.0f;
-        for (int i = 0; i < SL_SRBF_CH_NODES; i++)
-            b0 += F8[i] * hr[i];
-        r->cR[n] = w * b0;
-        for (int g = 0; g < 2; g++) {
-            SL_GLOBAL const float *h0 = D + SL_SRBF_CH_OFF + g * SL_SRBF_CH_SLICE +
-                                        (ix * SL_SRBF_CH_NHV + n) * SL_SRBF_CH_NODES;
-            SL_GLOBAL const float *h1 = h0 + SL_SRBF_CH_NHV * SL_SRBF_CH_NODES;
-            float h[SL_SRBF_CH_NODES];
-            for (int i = 0; i < SL_SRBF_CH_NODES; i++)
-                h[i] = h0[i] + (h1[i] - h0[i]) * fx;
-            for (int ch = 0; ch < nch; ch++) {
-                float b = 0.0f;
-                for (int i = 0; i < SL_SRBF_CH_NODES; i++)
-                    b += A8[ch][g][i] * h[i];
-                r->c[ch][g][n] = w * b;
-            }
-        }
+        float w = cosn * pt->d[n];
+        r->cR[n] = w * pt->bR[n];
+        for (int g = 0; g < 2; g++)
+            for (int ch = 0; ch < nch; ch++)
+                r->c[ch][g][n] = w * pt->b[ch][g][n];
     }
 }
 
 /* N'_g / z of group g (0 R, 1 TT, 2 TRT) at the von Mises concentration kappa of G_ph (one
  * theta_i), into v[0..nch-1] (R: v[0] only, it is the same for every channel). */
-SL_INLINE void sl_srbf_chiang_az(const sl_srbf_chiang_row *r, SL_GLOBAL const float *C,
-                                 SL_GLOBAL const float *H, int g, float kappa, float *v) {
-    int nc = g == 0 ? 1 : r->nch;
+SL_INLINE void sl_srbf_chiang_az(const sl_srbf_chiang_point *pt, const sl_srbf_chiang_row *r,
+                                 SL_GLOBAL const float *C, SL_GLOBAL const float *H, int g,
+                                 float kappa, float *v) {
+    int nc = g == 0 ? 1 : pt->nch;
     float rho[SL_SRBF_CH_NHV];
     sl_srbf_chiang_vm(kappa, rho);
     for (int ch = 0; ch < nc; ch++)
@@ -279,13 +318,13 @@ SL_INLINE void sl_srbf_chiang_az(const sl_srbf_chiang_row *r, SL_GLOBAL const fl
                 v[ch] += rho[n] * (g == 0 ? r->cR[n] : r->c[ch][g - 1][n]);
     } else {
         /* narrow: the logistic as two Gaussians, each folded into the width */
-        float l2 = kappa > 1e-30f ? 2.0f / kappa : 1e30f, s = r->s;
+        float l2 = kappa > 1e-30f ? 2.0f / kappa : 1e30f, s = pt->s;
         for (int k = 0; k < 2; k++) {
             float sk = (k ? SL_SRBF_CH_MIX_S2 : SL_SRBF_CH_MIX_S1) * s;
             float wk = k ? 1.0f - SL_SRBF_CH_MIX_W : SL_SRBF_CH_MIX_W;
             float lam3 = sqrt(sl_minf(l2 + 2.0f * sk * sk, 1e30f)), t = sl_srbf_deon_wide(lam3);
             float W[SL_SRBF_W_NODES];
-            sl_srbf_W(H, g == 0 ? 2 : g - 1, r->x, lam3, r->phi, W);
+            sl_srbf_W(H, g == 0 ? 2 : g - 1, pt->x, lam3, r->phi, W);
             for (int i = 0; i < SL_SRBF_W_NODES; i++) /* beyond the tables: see deon_wide */
                 W[i] = sl_srbf_deon_u[i] + t * (W[i] - sl_srbf_deon_u[i]);
             if (g == 0) {
@@ -293,17 +332,17 @@ SL_INLINE void sl_srbf_chiang_az(const sl_srbf_chiang_row *r, SL_GLOBAL const fl
                 float Cn[7], q = 0.0f;
                 sl_srbf_C(C, lam3, r->phi, Cn);
                 for (int j = 0; j < 6; j++)
-                    q += r->poly[j] *
+                    q += pt->poly[j] *
                          (sl_srbf_deon_cu[j + 1] + t * (Cn[j + 1] - sl_srbf_deon_cu[j + 1]));
                 for (int i = 0; i < SL_SRBF_W_NODES; i++)
-                    q += r->AR[i] * W[i];
+                    q += pt->AR[i] * W[i];
                 v[0] += wk * q;
                 continue;
             }
             for (int ch = 0; ch < nc; ch++) {
                 float q = 0.0f;
                 for (int i = 0; i < SL_SRBF_W_NODES; i++)
-                    q += r->A[ch][g - 1][i] * W[i];
+                    q += pt->A[ch][g - 1][i] * W[i];
                 v[ch] += wk * q;
             }
         }
@@ -316,32 +355,29 @@ SL_INLINE void sl_srbf_chiang_az(const sl_srbf_chiang_row *r, SL_GLOBAL const fl
         v[ch] = sl_maxf(v[ch], 0.0f);
 }
 
-/* The response to one SRBF lobe for nch (1..3) channels of absorption sig[ch] (NULL:
- * fp->sigma_a): out[5 ch + k], k = 0..4: I_0, I_1, I_2, I_rest, I (the d'Eon layout with orders
- * 2). Everything but the absorption is computed once for all channels. */
-SL_INLINE void sl_srbf_chiang_rgb(const sl_fiber_params *fp, SL_GLOBAL const float *C,
-                                  SL_GLOBAL const float *H, SL_GLOBAL const float *D, float theta_o,
-                                  float phi_o, float theta_j, float phi_j, float lambda, int nch,
-                                  const float *sig, float *out) {
+/* The response to one SRBF lobe at the point pt (sl_srbf_chiang_point_init of the row's theta_o
+ * and absorption): out[5 ch + k], ch < pt->nch, k = 0..4: I_0, I_1, I_2, I_rest, I (the d'Eon
+ * layout with orders 2). */
+SL_INLINE void sl_srbf_chiang_rgb_at(const sl_fiber_params *fp, SL_GLOBAL const float *C,
+                                     SL_GLOBAL const float *H, const sl_srbf_chiang_point *pt,
+                                     float theta_o, float phi_o, float theta_j, float phi_j,
+                                     float lambda, float *out) {
+    int nch = pt->nch;
     float cos_tj = sl_maxf(cos(theta_j), 0.0f), sin_tj = sin(theta_j);
     float inv_l2 = 1.0f / (lambda * lambda);
     float floor_ = sl_srbf_deon_floor(lambda, inv_l2);
     sl_srbf_chiang_row r;
-    sl_srbf_chiang_row_init(fp, D, theta_o, sl_wrap_pi(phi_o - phi_j), nch, sig, &r);
+    sl_srbf_chiang_row_init(pt, sl_wrap_pi(phi_o - phi_j), &r);
     for (int k = 0; k < 5 * nch; k++)
         out[k] = 0.0f;
-    /* the trimmed logistic's peak 1 / (4 s tanh(pi / 2s)) bounds every N_p / E_p */
-    float s = sl_maxf(fp->logistic_s, 1e-30f);
-    float dmax = 0.25f / (s * tanh(0.5f * SL_PI_F / s));
-    float rest = 0.0f;
-    for (int ch = 0; ch < nch; ch++)
-        rest = sl_maxf(rest, r.rest[ch]);
+    /* the trimmed logistic's peak pt->dmax bounds every N_p / E_p */
+    float dmax = pt->dmax, rest = pt->restmax;
     for (int g = 0; g < 4; g++) {
         /* A group whose contribution cannot reach 1e-4 of the error floor 0.03 int G of
          * numerics.md sec. 5 is skipped: N'_p / z <= max N_p <= E_p dmax (R: <= 1/4), and the
          * longitudinal weights sum to <= 2 pi int cos ti G_th M_p <= 2 pi (M_p is normalised,
          * G_th <= 1); dark hair skips TT, TRT and the rest term before any lobe work */
-        float bound = g == 0 ? 0.25f : (g < 3 ? 2.0f * SL_PI_F * r.emax[g] * dmax : rest);
+        float bound = g == 0 ? 0.25f : (g < 3 ? 2.0f * SL_PI_F * pt->emax[g] * dmax : rest);
         if (!(4.0f * SL_PI_F * bound > 1e-4f * floor_)) continue;
         int lobe = g < 3 ? g : 2; /* the rest term: TRT's variance, theta_o unshifted */
         float v = fp->beta[lobe] * fp->beta[lobe];
@@ -350,14 +386,14 @@ SL_INLINE void sl_srbf_chiang_rgb(const sl_fiber_params *fp, SL_GLOBAL const flo
         if (!sl_srbf_deon_lobe_init(v, tho, theta_j, cos_tj, sin_tj, inv_l2, &L)) continue;
         if (g == 3) { /* uniform azimuth: exact at every node */
             for (int ch = 0; ch < nch; ch++)
-                out[5 * ch + 3] += L.wsum * r.rest[ch];
+                out[5 * ch + 3] += L.wsum * pt->rest[ch];
             continue;
         }
         if (!(L.wsum * bound > 1e-4f * floor_)) continue; /* the same with the actual weights */
         float fz[SL_SRBF_CH_MAXC][3][SL_DEON_MAX_ORDERS + 1];
         for (int j = 0; j < 3; j++) {
             float kappa = 2.0f * cos(sl_srbf_deon_lobe_ti(&L, j)) * cos_tj * inv_l2, a[3];
-            sl_srbf_chiang_az(&r, C, H, g, kappa, a);
+            sl_srbf_chiang_az(pt, &r, C, H, g, kappa, a);
             for (int ch = 0; ch < nch; ch++)
                 fz[ch][j][0] = a[g == 0 ? 0 : ch];
         }
@@ -366,6 +402,18 @@ SL_INLINE void sl_srbf_chiang_rgb(const sl_fiber_params *fp, SL_GLOBAL const flo
     }
     for (int ch = 0; ch < nch; ch++)
         sl_srbf_deon_total(2, out + 5 * ch);
+}
+
+/* The response to one SRBF lobe for nch (1..3) channels of absorption sig[ch] (NULL:
+ * fp->sigma_a): out[5 ch + k] as sl_srbf_chiang_rgb_at. Everything but the absorption is
+ * computed once for all channels. */
+SL_INLINE void sl_srbf_chiang_rgb(const sl_fiber_params *fp, SL_GLOBAL const float *C,
+                                  SL_GLOBAL const float *H, SL_GLOBAL const float *D, float theta_o,
+                                  float phi_o, float theta_j, float phi_j, float lambda, int nch,
+                                  const float *sig, float *out) {
+    sl_srbf_chiang_point pt;
+    sl_srbf_chiang_point_init(fp, D, theta_o, nch, sig, &pt);
+    sl_srbf_chiang_rgb_at(fp, C, H, &pt, theta_o, phi_o, theta_j, phi_j, lambda, out);
 }
 
 /* One channel (fp->sigma_a): out[0..4] = I_0, I_1, I_2, I_rest, I. */

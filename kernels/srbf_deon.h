@@ -403,6 +403,17 @@ SL_INLINE void sl_srbf_deon(const sl_fiber_params *fp, SL_GLOBAL const float *C,
     sl_srbf_deon_total(n, out);
 }
 
+/* Chiang's outputs of nch channels (sl_srbf_chiang_rgb: 5 per channel; nch 1: the same for r, g,
+ * b) as the renderer's row: I_0 rgb, I_1 rgb, I_2 + I_rest rgb. */
+SL_INLINE void sl_srbf_chiang_rgb_out(int nch, const float *o, float out[9]) {
+    for (int ch = 0; ch < 3; ch++) {
+        const float *c = o + 5 * (nch > 1 ? ch : 0);
+        out[ch] = c[0];
+        out[3 + ch] = c[1];
+        out[6 + ch] = c[2] + c[3];
+    }
+}
+
 /* The renderer's row (the shape of sl_srbf_rgb_row, kernels/srbf_fast.h): three absorption
  * coefficients sig[0..2] (NULL: fp->sigma_a for all), out[9] = I_0 rgb, I_1 rgb, then orders
  * >= 2 and the rest term summed, rgb (the "R, TT, TRT" slots of the Marschner row). A row whose
@@ -415,12 +426,7 @@ SL_INLINE void sl_srbf_deon_rgb_row(const sl_fiber_params *fp, SL_GLOBAL const f
         float o[5 * SL_SRBF_CH_MAXC];
         int nch = sig ? 3 : 1;
         sl_srbf_chiang_rgb(fp, C, H, D, theta_o, phi_o, theta_j, phi_j, lambda, nch, sig, o);
-        for (int ch = 0; ch < 3; ch++) {
-            const float *c = o + 5 * (sig ? ch : 0);
-            out[ch] = c[0];
-            out[3 + ch] = c[1];
-            out[6 + ch] = c[2] + c[3];
-        }
+        sl_srbf_chiang_rgb_out(nch, o, out);
         return;
     }
     int n = sl_srbf_deon_orders(fp);
