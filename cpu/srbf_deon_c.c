@@ -50,7 +50,7 @@ static void chiang_rgb_batch(const sl_fiber_params *fp, const float *C, const fl
             have = 1;
         }
         float o[5 * SL_SRBF_CH_MAXC];
-        sl_srbf_chiang_rgb_at(fp, C, H, &pt, x[0], x[1], x[2], x[3], x[4], o);
+        sl_srbf_chiang_rgb_at(C, H, &pt, x[1], x[2], x[3], x[4], o);
         sl_srbf_chiang_rgb_out(nch, o, out + 9 * r);
     }
 }

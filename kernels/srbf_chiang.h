@@ -75,6 +75,7 @@ typedef struct sl_srbf_chiang_point {
     float emax[3]; /* per group the largest energy over the channels, E_p / (2 pi) (R: 1 / 2pi) */
     float restmax; /* the largest rest[ch] */
     float dmax;    /* the trimmed logistic's peak 1 / (4 s tanh(pi / 2s)) */
+    sl_srbf_deon_lobe_pre lobe[4]; /* R, TT, TRT, the rest term (TRT's variance, to unshifted) */
 } sl_srbf_chiang_point;
 
 /* What one row adds: the terms that depend on phi. */
@@ -104,29 +105,49 @@ SL_INLINE void sl_srbf_chiang_detector(SL_GLOBAL const float *D, float s, float 
         d[n] = b[n] + (b[n + SL_SRBF_CH_NHV] - b[n]) * fs;
 }
 
-/* rho_n = I_n(k) / I_0(k), n = 0..SL_SRBF_CH_NH: the ratios r_n = I_n / I_(n-1) by the stable
- * downward recurrence r_n = 1 / (2n/k + r_(n+1)), started 8 orders above NH from the mean of
- * Amos's bounds k / (n - 1/2 + sqrt((n -+ 1/2)^2 + k^2)): where the recurrence does not damp the
+/* rho[n][l] = I_n(k) / I_0(k), n = 0..SL_SRBF_CH_NH, for 4 concentrations k[l] at once (the 3 Gauss
+ * points of a lobe group, padded): the ratios r_n = I_n / I_(n-1) by the stable downward
+ * recurrence r_n = 1 / (2n/k + r_(n+1)), started 8 orders above NH from the mean of Amos's
+ * bounds k / (n - 1/2 + sqrt((n -+ 1/2)^2 + k^2)): where the recurrence does not damp the
  * start's error (large k), the bounds' gap (~n / k^2 relative) is below float resolution, and
- * where they are loose (moderate k) the 8 extra steps damp it by prod r_n^2 < 1e-4. */
-SL_INLINE void sl_srbf_chiang_vm(float k, float rho[SL_SRBF_CH_NHV]) {
-    rho[0] = 1.0f;
-    if (!(k > 1e-30f)) {
-        for (int n = 1; n < SL_SRBF_CH_NHV; n++)
-            rho[n] = 0.0f;
-        return;
-    }
+ * where they are loose (moderate k) the 8 extra steps damp it by prod r_n^2 < 1e-4. The
+ * recurrence is a chain of 48 dependent divisions, the costliest part of a chiang row: the lanes
+ * run side by side (branch-free, lane loops innermost, which GCC turns into one SSE division per
+ * step), each lane with exactly the operations of one k alone; k <= 1e-30 gives rho_n = 0. */
+SL_INLINE void sl_srbf_chiang_vm4(const float k[4], float rho[SL_SRBF_CH_NHV][4]) {
     const int top = SL_SRBF_CH_NH + 8;
     const float nu = (float)top + 1.0f;
-    float r = 0.5f * (k / (nu - 0.5f + sqrt((nu + 0.5f) * (nu + 0.5f) + k * k)) +
-                      k / (nu - 0.5f + sqrt((nu - 0.5f) * (nu - 0.5f) + k * k)));
-    float rr[SL_SRBF_CH_NHV];
-    for (int n = top; n >= 1; n--) {
-        r = 1.0f / (2.0f * (float)n / k + r);
-        if (n <= SL_SRBF_CH_NH) rr[n] = r;
+    float kk[4], r[4], rr[SL_SRBF_CH_NHV][4];
+    for (int l = 0; l < 4; l++) {
+        kk[l] = k[l] > 1e-30f ? k[l] : 1.0f;
+        r[l] = 0.5f * (kk[l] / (nu - 0.5f + sqrt((nu + 0.5f) * (nu + 0.5f) + kk[l] * kk[l])) +
+                       kk[l] / (nu - 0.5f + sqrt((nu - 0.5f) * (nu - 0.5f) + kk[l] * kk[l])));
+    }
+    for (int n = top; n > SL_SRBF_CH_NH; n--)
+        for (int l = 0; l < 4; l++)
+            r[l] = 1.0f / (2.0f * (float)n / kk[l] + r[l]);
+    for (int n = SL_SRBF_CH_NH; n >= 1; n--)
+        for (int l = 0; l < 4; l++)
+            rr[n][l] = r[l] = 1.0f / (2.0f * (float)n / kk[l] + r[l]);
+    float on[4], q[4];
+    for (int l = 0; l < 4; l++) {
+        on[l] = k[l] > 1e-30f ? 1.0f : 0.0f;
+        q[l] = 1.0f;
+        rho[0][l] = 1.0f;
     }
     for (int n = 1; n < SL_SRBF_CH_NHV; n++)
-        rho[n] = rho[n - 1] * rr[n];
+        for (int l = 0; l < 4; l++) {
+            q[l] *= rr[n][l];
+            rho[n][l] = on[l] * q[l];
+        }
+}
+
+/* The same for one k. */
+SL_INLINE void sl_srbf_chiang_vm(float k, float rho[SL_SRBF_CH_NHV]) {
+    float kv[4] = {k, k, k, k}, r4[SL_SRBF_CH_NHV][4];
+    sl_srbf_chiang_vm4(kv, r4);
+    for (int n = 0; n < SL_SRBF_CH_NHV; n++)
+        rho[n] = r4[n][0];
 }
 
 /* cos gamma_t = sqrt(1 - (h x)^2) at a node of sin gamma sn (sin gamma_t = h / eta'). */
@@ -205,6 +226,11 @@ SL_INLINE void sl_srbf_chiang_point_init(const sl_fiber_params *fp, SL_GLOBAL co
     float s = sl_maxf(fp->logistic_s, 1e-30f);
     r->dmax = 0.25f / (s * tanh(0.5f * SL_PI_F / s));
     sl_srbf_chiang_detector(D, r->s, r->d);
+    for (int g = 0; g < 4; g++) {
+        int lobe = g < 3 ? g : 2;
+        float v = fp->beta[lobe] * fp->beta[lobe];
+        sl_srbf_deon_lobe_pre_init(v, g < 3 ? theta_o - 2.0f * fp->alpha[g] : theta_o, &r->lobe[g]);
+    }
     int ix;
     float fx = sl_srbf_grid(x, 0.0f, 1.0f, SL_SRBF_CH_NX, &ix);
     for (int n = 0; n < SL_SRBF_CH_NHV; n++) {
@@ -302,66 +328,88 @@ SL_INLINE void sl_srbf_chiang_row_init(const sl_srbf_chiang_point *pt, float phi
     }
 }
 
-/* N'_g / z of group g (0 R, 1 TT, 2 TRT) at the von Mises concentration kappa of G_ph (one
- * theta_i), into v[0..nch-1] (R: v[0] only, it is the same for every channel). */
-SL_INLINE void sl_srbf_chiang_az(const sl_srbf_chiang_point *pt, const sl_srbf_chiang_row *r,
-                                 SL_GLOBAL const float *C, SL_GLOBAL const float *H, int g,
-                                 float kappa, float *v) {
+/* N'_g / z of group g (0 R, 1 TT, 2 TRT), narrow branch, at the von Mises concentration kappa of
+ * G_ph (one theta_i), added to v[0..nc-1] (R: v[0] only, the same for every channel). */
+SL_INLINE void sl_srbf_chiang_az_narrow(const sl_srbf_chiang_point *pt,
+                                        const sl_srbf_chiang_row *r, SL_GLOBAL const float *C,
+                                        SL_GLOBAL const float *H, int g, float kappa, float *v) {
     int nc = g == 0 ? 1 : pt->nch;
-    float rho[SL_SRBF_CH_NHV];
-    sl_srbf_chiang_vm(kappa, rho);
-    for (int ch = 0; ch < nc; ch++)
-        v[ch] = 0.0f;
-    if (fabs(rho[SL_SRBF_CH_NH] * r->d_nh) < SL_SRBF_CH_EPS) { /* |k_NH| = rho_NH |d_NH| */
-        for (int n = 0; n < SL_SRBF_CH_NHV; n++)
-            for (int ch = 0; ch < nc; ch++)
-                v[ch] += rho[n] * (g == 0 ? r->cR[n] : r->c[ch][g - 1][n]);
-    } else {
-        /* narrow: the logistic as two Gaussians, each folded into the width */
-        float l2 = kappa > 1e-30f ? 2.0f / kappa : 1e30f, s = pt->s;
-        for (int k = 0; k < 2; k++) {
-            float sk = (k ? SL_SRBF_CH_MIX_S2 : SL_SRBF_CH_MIX_S1) * s;
-            float wk = k ? 1.0f - SL_SRBF_CH_MIX_W : SL_SRBF_CH_MIX_W;
-            float lam3 = sqrt(sl_minf(l2 + 2.0f * sk * sk, 1e30f)), t = sl_srbf_deon_wide(lam3);
-            float W[SL_SRBF_W_NODES];
-            sl_srbf_W(H, g == 0 ? 2 : g - 1, pt->x, lam3, r->phi, W);
-            for (int i = 0; i < SL_SRBF_W_NODES; i++) /* beyond the tables: see deon_wide */
-                W[i] = sl_srbf_deon_u[i] + t * (W[i] - sl_srbf_deon_u[i]);
-            if (g == 0) {
-                /* R: Xu's C_k of the Fresnel fit, the residual through the 4 nodes */
-                float Cn[7], q = 0.0f;
-                sl_srbf_C(C, lam3, r->phi, Cn);
-                for (int j = 0; j < 6; j++)
-                    q += pt->poly[j] *
-                         (sl_srbf_deon_cu[j + 1] + t * (Cn[j + 1] - sl_srbf_deon_cu[j + 1]));
-                for (int i = 0; i < SL_SRBF_W_NODES; i++)
-                    q += pt->AR[i] * W[i];
-                v[0] += wk * q;
-                continue;
-            }
-            for (int ch = 0; ch < nc; ch++) {
-                float q = 0.0f;
-                for (int i = 0; i < SL_SRBF_W_NODES; i++)
-                    q += pt->A[ch][g - 1][i] * W[i];
-                v[ch] += wk * q;
-            }
+    /* narrow: the logistic as two Gaussians, each folded into the width */
+    float l2 = kappa > 1e-30f ? 2.0f / kappa : 1e30f, s = pt->s;
+    for (int k = 0; k < 2; k++) {
+        float sk = (k ? SL_SRBF_CH_MIX_S2 : SL_SRBF_CH_MIX_S1) * s;
+        float wk = k ? 1.0f - SL_SRBF_CH_MIX_W : SL_SRBF_CH_MIX_W;
+        float lam3 = sqrt(sl_minf(l2 + 2.0f * sk * sk, 1e30f)), t = sl_srbf_deon_wide(lam3);
+        float W[SL_SRBF_W_NODES];
+        sl_srbf_W(H, g == 0 ? 2 : g - 1, pt->x, lam3, r->phi, W);
+        for (int i = 0; i < SL_SRBF_W_NODES; i++) /* beyond the tables: see deon_wide */
+            W[i] = sl_srbf_deon_u[i] + t * (W[i] - sl_srbf_deon_u[i]);
+        if (g == 0) {
+            /* R: Xu's C_k of the Fresnel fit, the residual through the 4 nodes */
+            float Cn[7], q = 0.0f;
+            sl_srbf_C(C, lam3, r->phi, Cn);
+            for (int j = 0; j < 6; j++)
+                q += pt->poly[j] *
+                     (sl_srbf_deon_cu[j + 1] + t * (Cn[j + 1] - sl_srbf_deon_cu[j + 1]));
+            for (int i = 0; i < SL_SRBF_W_NODES; i++)
+                q += pt->AR[i] * W[i];
+            v[0] += wk * q;
+            continue;
         }
-        if (g == 0 && SL_SRBF_CH_CORRECT) v[0] += r->r_err;
-        if (g == 1 && SL_SRBF_CH_CORRECT)
-            for (int ch = 0; ch < nc; ch++)
-                v[ch] += r->tt_err[ch];
+        for (int ch = 0; ch < nc; ch++) {
+            float q = 0.0f;
+            for (int i = 0; i < SL_SRBF_W_NODES; i++)
+                q += pt->A[ch][g - 1][i] * W[i];
+            v[ch] += wk * q;
+        }
     }
-    for (int ch = 0; ch < nc; ch++)
-        v[ch] = sl_maxf(v[ch], 0.0f);
+    if (g == 0 && SL_SRBF_CH_CORRECT) v[0] += r->r_err;
+    if (g == 1 && SL_SRBF_CH_CORRECT)
+        for (int ch = 0; ch < nc; ch++)
+            v[ch] += r->tt_err[ch];
 }
 
-/* The response to one SRBF lobe at the point pt (sl_srbf_chiang_point_init of the row's theta_o
- * and absorption): out[5 ch + k], ch < pt->nch, k = 0..4: I_0, I_1, I_2, I_rest, I (the d'Eon
+/* N'_g / z of group g at the 3 Gauss points of a lobe interval (kappa[j], j < 3; kappa[3] a
+ * pad), into fz[ch][j][0] (R: the same for every channel). The wide branch's harmonic sums run
+ * for the 4 lanes side by side (each lane's sum in the order of n, as one point alone); a point
+ * where the kernel's last harmonic is not negligible takes the narrow branch instead. */
+SL_INLINE void sl_srbf_chiang_az3(const sl_srbf_chiang_point *pt, const sl_srbf_chiang_row *r,
+                                  SL_GLOBAL const float *C, SL_GLOBAL const float *H, int g,
+                                  const float kappa[4],
+                                  float fz[SL_SRBF_CH_MAXC][3][SL_DEON_MAX_ORDERS + 1]) {
+    int nc = g == 0 ? 1 : pt->nch, nch = pt->nch;
+    float rho[SL_SRBF_CH_NHV][4], wv[SL_SRBF_CH_MAXC][4];
+    sl_srbf_chiang_vm4(kappa, rho);
+    for (int ch = 0; ch < nc; ch++) {
+        const float *cf = g == 0 ? r->cR : r->c[ch][g - 1];
+        float acc[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        for (int n = 0; n < SL_SRBF_CH_NHV; n++)
+            for (int l = 0; l < 4; l++)
+                acc[l] += rho[n][l] * cf[n];
+        for (int l = 0; l < 4; l++)
+            wv[ch][l] = acc[l];
+    }
+    for (int j = 0; j < 3; j++) {
+        float v[SL_SRBF_CH_MAXC];
+        if (fabs(rho[SL_SRBF_CH_NH][j] * r->d_nh) < SL_SRBF_CH_EPS) { /* |k_NH| = rho_NH |d_NH| */
+            for (int ch = 0; ch < nc; ch++)
+                v[ch] = wv[ch][j];
+        } else {
+            for (int ch = 0; ch < nc; ch++)
+                v[ch] = 0.0f;
+            sl_srbf_chiang_az_narrow(pt, r, C, H, g, kappa[j], v);
+        }
+        for (int ch = 0; ch < nch; ch++)
+            fz[ch][j][0] = sl_maxf(v[g == 0 ? 0 : ch], 0.0f);
+    }
+}
+
+/* The response to one SRBF lobe at the point pt (sl_srbf_chiang_point_init of the row's theta_o,
+ * absorption and material): out[5 ch + k], ch < pt->nch, k = 0..4: I_0, I_1, I_2, I_rest, I (the d'Eon
  * layout with orders 2). */
-SL_INLINE void sl_srbf_chiang_rgb_at(const sl_fiber_params *fp, SL_GLOBAL const float *C,
-                                     SL_GLOBAL const float *H, const sl_srbf_chiang_point *pt,
-                                     float theta_o, float phi_o, float theta_j, float phi_j,
-                                     float lambda, float *out) {
+SL_INLINE void sl_srbf_chiang_rgb_at(SL_GLOBAL const float *C, SL_GLOBAL const float *H,
+                                     const sl_srbf_chiang_point *pt, float phi_o, float theta_j,
+                                     float phi_j, float lambda, float *out) {
     int nch = pt->nch;
     float cos_tj = sl_maxf(cos(theta_j), 0.0f), sin_tj = sin(theta_j);
     float inv_l2 = 1.0f / (lambda * lambda);
@@ -379,11 +427,9 @@ SL_INLINE void sl_srbf_chiang_rgb_at(const sl_fiber_params *fp, SL_GLOBAL const 
          * G_th <= 1); dark hair skips TT, TRT and the rest term before any lobe work */
         float bound = g == 0 ? 0.25f : (g < 3 ? 2.0f * SL_PI_F * pt->emax[g] * dmax : rest);
         if (!(4.0f * SL_PI_F * bound > 1e-4f * floor_)) continue;
-        int lobe = g < 3 ? g : 2; /* the rest term: TRT's variance, theta_o unshifted */
-        float v = fp->beta[lobe] * fp->beta[lobe];
-        float tho = g < 3 ? theta_o - 2.0f * fp->alpha[g] : theta_o;
-        sl_srbf_deon_lobe L;
-        if (!sl_srbf_deon_lobe_init(v, tho, theta_j, cos_tj, sin_tj, inv_l2, &L)) continue;
+        sl_srbf_deon_lobe L; /* the rest term: TRT's variance, theta_o unshifted */
+        if (!sl_srbf_deon_lobe_init_pre(&pt->lobe[g], theta_j, cos_tj, sin_tj, inv_l2, &L))
+            continue;
         if (g == 3) { /* uniform azimuth: exact at every node */
             for (int ch = 0; ch < nch; ch++)
                 out[5 * ch + 3] += L.wsum * pt->rest[ch];
@@ -391,12 +437,11 @@ SL_INLINE void sl_srbf_chiang_rgb_at(const sl_fiber_params *fp, SL_GLOBAL const 
         }
         if (!(L.wsum * bound > 1e-4f * floor_)) continue; /* the same with the actual weights */
         float fz[SL_SRBF_CH_MAXC][3][SL_DEON_MAX_ORDERS + 1];
-        for (int j = 0; j < 3; j++) {
-            float kappa = 2.0f * cos(sl_srbf_deon_lobe_ti(&L, j)) * cos_tj * inv_l2, a[3];
-            sl_srbf_chiang_az(pt, &r, C, H, g, kappa, a);
-            for (int ch = 0; ch < nch; ch++)
-                fz[ch][j][0] = a[g == 0 ? 0 : ch];
-        }
+        float kappa[4];
+        for (int j = 0; j < 3; j++)
+            kappa[j] = 2.0f * cos(sl_srbf_deon_lobe_ti(&L, j)) * cos_tj * inv_l2;
+        kappa[3] = kappa[2];
+        sl_srbf_chiang_az3(pt, &r, C, H, g, kappa, fz);
         for (int ch = 0; ch < nch; ch++)
             sl_srbf_deon_lobe_add(&L, fz[ch], 1, out + 5 * ch + g);
     }
@@ -413,7 +458,7 @@ SL_INLINE void sl_srbf_chiang_rgb(const sl_fiber_params *fp, SL_GLOBAL const flo
                                   const float *sig, float *out) {
     sl_srbf_chiang_point pt;
     sl_srbf_chiang_point_init(fp, D, theta_o, nch, sig, &pt);
-    sl_srbf_chiang_rgb_at(fp, C, H, &pt, theta_o, phi_o, theta_j, phi_j, lambda, out);
+    sl_srbf_chiang_rgb_at(C, H, &pt, phi_o, theta_j, phi_j, lambda, out);
 }
 
 /* One channel (fp->sigma_a): out[0..4] = I_0, I_1, I_2, I_rest, I. */

@@ -269,13 +269,34 @@ typedef struct sl_srbf_deon_lobe {
     float wk[8];
 } sl_srbf_deon_lobe;
 
+/* What a lobe group's longitudinal part takes from the view alone (variance v, shifted view angle
+ * tho): cos tho, sin tho and the ti-independent constant cv of log M_p; the renderer's rows of one
+ * point share it (kernels/srbf_chiang.h builds it once per point). */
+typedef struct sl_srbf_deon_lobe_pre {
+    float v, tho, cto, sto, cv;
+} sl_srbf_deon_lobe_pre;
+
+SL_INLINE void sl_srbf_deon_lobe_pre_init(float v, float tho, sl_srbf_deon_lobe_pre *P) {
+    P->v = v;
+    P->tho = tho;
+    P->cto = cos(tho);
+    P->sto = sin(tho);
+    /* log M_p = cv - num / v + log i0e(|cos ti cos to'| / v) (sl_deon_log_mp's form of
+     * Eq. 7) with the ti-independent cv hoisted and i0e applied directly (no log)
+     * (cv <= 80: exp(cv) stays finite in float even for a denormal v, where the lobe is a
+     * delta far below float resolution anyway; beta >= 1e-17 rad is unaffected) */
+    P->cv = sl_minf(-log(v) - log(-expm1(-2.0f / v)), 80.0f);
+}
+
 /* Returns 0 when the lobe interval is empty. theta_j's cos (clamped >= 0) and sin, 1/lambda^2. */
-SL_INLINE int sl_srbf_deon_lobe_init(float v, float tho, float theta_j, float cos_tj, float sin_tj,
-                                     float inv_l2, sl_srbf_deon_lobe *L) {
+SL_INLINE int sl_srbf_deon_lobe_init_pre(const sl_srbf_deon_lobe_pre *P, float theta_j,
+                                         float cos_tj, float sin_tj, float inv_l2,
+                                         sl_srbf_deon_lobe *L) {
+    float v = P->v, tho = P->tho, cv = P->cv, cto = P->cto;
     /* the product lobe exp(a cos ti + b sin ti): G_th's 2 cos(ti - tj) / lambda^2 plus
      * log M's -sin ti sin to' / v + |cos ti cos to'| / v (log I0(y) = y + log i0e(y)) */
-    float a = 2.0f * cos_tj * inv_l2 + fabs(cos(tho)) / v;
-    float b = 2.0f * sin_tj * inv_l2 - sin(tho) / v;
+    float a = 2.0f * cos_tj * inv_l2 + fabs(cto) / v;
+    float b = 2.0f * sin_tj * inv_l2 - P->sto / v;
     float R = sqrt(a * a + b * b);
     float mu = atan2(b, a), s = 1.0f / sqrt(sl_maxf(R, 1e-6f));
     float lo = sl_maxf(mu - 3.5f * s, -0.5f * SL_PI_F), hi = sl_minf(mu + 3.5f * s, 0.5f * SL_PI_F);
@@ -284,11 +305,6 @@ SL_INLINE int sl_srbf_deon_lobe_init(float v, float tho, float theta_j, float co
     float c = 0.5f * (lo + hi), h = 0.5f * (hi - lo);
     L->c = c;
     L->h = h;
-    /* log M_p = cv - num / v + log i0e(|cos ti cos to'| / v) (sl_deon_log_mp's form of
-     * Eq. 7) with the ti-independent cv hoisted and i0e applied directly (no log)
-     * (cv <= 80: exp(cv) stays finite in float even for a denormal v, where the lobe is a
-     * delta far below float resolution anyway; beta >= 1e-17 rad is unaffected) */
-    float cv = sl_minf(-log(v) - log(-expm1(-2.0f / v)), 80.0f), cto = cos(tho);
     for (int k = 0; k < 8; k++) {
         float ti = c + h * sl_srbf_deon_glx[k];
         float cti = cos(ti);
@@ -310,6 +326,14 @@ SL_INLINE int sl_srbf_deon_lobe_init(float v, float tho, float theta_j, float co
         L->wsum += L->wk[k];
     }
     return 1;
+}
+
+/* The same from the variance v and shifted view angle tho. */
+SL_INLINE int sl_srbf_deon_lobe_init(float v, float tho, float theta_j, float cos_tj, float sin_tj,
+                                     float inv_l2, sl_srbf_deon_lobe *L) {
+    sl_srbf_deon_lobe_pre P;
+    sl_srbf_deon_lobe_pre_init(v, tho, &P);
+    return sl_srbf_deon_lobe_init_pre(&P, theta_j, cos_tj, sin_tj, inv_l2, L);
 }
 
 /* theta_i of Gauss point j (0..2) of the lobe's interval, where the azimuthal factor is
