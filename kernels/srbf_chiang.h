@@ -105,38 +105,44 @@ SL_INLINE void sl_srbf_chiang_detector(SL_GLOBAL const float *D, float s, float 
         d[n] = b[n] + (b[n + SL_SRBF_CH_NHV] - b[n]) * fs;
 }
 
-/* rho[n][l] = I_n(k) / I_0(k), n = 0..SL_SRBF_CH_NH, for 4 concentrations k[l] at once (the 3 Gauss
- * points of a lobe group, padded): the ratios r_n = I_n / I_(n-1) by the stable downward
+/* Lanes of the von Mises harmonics evaluated side by side: 4 per lobe group R, TT, TRT (its 3
+ * Gauss points and a pad). */
+#define SL_SRBF_CH_VL 12
+
+/* rho[n][l] = I_n(k) / I_0(k), n = 0..SL_SRBF_CH_NH, for SL_SRBF_CH_VL concentrations k[l] at
+ * once (the Gauss points of every lobe group of a row): the ratios r_n = I_n / I_(n-1) by the stable downward
  * recurrence r_n = 1 / (2n/k + r_(n+1)), started 8 orders above NH from the mean of Amos's
  * bounds k / (n - 1/2 + sqrt((n -+ 1/2)^2 + k^2)): where the recurrence does not damp the
  * start's error (large k), the bounds' gap (~n / k^2 relative) is below float resolution, and
  * where they are loose (moderate k) the 8 extra steps damp it by prod r_n^2 < 1e-4. The
- * recurrence is a chain of 48 dependent divisions, the costliest part of a chiang row: the lanes
- * run side by side (branch-free, lane loops innermost, which GCC turns into one SSE division per
- * step), each lane with exactly the operations of one k alone; k <= 1e-30 gives rho_n = 0. */
-SL_INLINE void sl_srbf_chiang_vm4(const float k[4], float rho[SL_SRBF_CH_NHV][4]) {
+ * recurrence is a chain of 24 dependent divisions, once the costliest part of a chiang row: the
+ * lanes run side by side (branch-free, lane loops innermost, which GCC turns into 3 independent
+ * SSE divisions per step), each lane with exactly the operations of one k alone; k <= 1e-30
+ * gives rho_n = 0. */
+SL_INLINE void sl_srbf_chiang_vmx(const float k[SL_SRBF_CH_VL],
+                                  float rho[SL_SRBF_CH_NHV][SL_SRBF_CH_VL]) {
     const int top = SL_SRBF_CH_NH + 8;
     const float nu = (float)top + 1.0f;
-    float kk[4], r[4], rr[SL_SRBF_CH_NHV][4];
-    for (int l = 0; l < 4; l++) {
+    float kk[SL_SRBF_CH_VL], r[SL_SRBF_CH_VL], rr[SL_SRBF_CH_NHV][SL_SRBF_CH_VL];
+    for (int l = 0; l < SL_SRBF_CH_VL; l++) {
         kk[l] = k[l] > 1e-30f ? k[l] : 1.0f;
         r[l] = 0.5f * (kk[l] / (nu - 0.5f + sqrt((nu + 0.5f) * (nu + 0.5f) + kk[l] * kk[l])) +
                        kk[l] / (nu - 0.5f + sqrt((nu - 0.5f) * (nu - 0.5f) + kk[l] * kk[l])));
     }
     for (int n = top; n > SL_SRBF_CH_NH; n--)
-        for (int l = 0; l < 4; l++)
+        for (int l = 0; l < SL_SRBF_CH_VL; l++)
             r[l] = 1.0f / (2.0f * (float)n / kk[l] + r[l]);
     for (int n = SL_SRBF_CH_NH; n >= 1; n--)
-        for (int l = 0; l < 4; l++)
+        for (int l = 0; l < SL_SRBF_CH_VL; l++)
             rr[n][l] = r[l] = 1.0f / (2.0f * (float)n / kk[l] + r[l]);
-    float on[4], q[4];
-    for (int l = 0; l < 4; l++) {
+    float on[SL_SRBF_CH_VL], q[SL_SRBF_CH_VL];
+    for (int l = 0; l < SL_SRBF_CH_VL; l++) {
         on[l] = k[l] > 1e-30f ? 1.0f : 0.0f;
         q[l] = 1.0f;
         rho[0][l] = 1.0f;
     }
     for (int n = 1; n < SL_SRBF_CH_NHV; n++)
-        for (int l = 0; l < 4; l++) {
+        for (int l = 0; l < SL_SRBF_CH_VL; l++) {
             q[l] *= rr[n][l];
             rho[n][l] = on[l] * q[l];
         }
@@ -144,8 +150,10 @@ SL_INLINE void sl_srbf_chiang_vm4(const float k[4], float rho[SL_SRBF_CH_NHV][4]
 
 /* The same for one k. */
 SL_INLINE void sl_srbf_chiang_vm(float k, float rho[SL_SRBF_CH_NHV]) {
-    float kv[4] = {k, k, k, k}, r4[SL_SRBF_CH_NHV][4];
-    sl_srbf_chiang_vm4(kv, r4);
+    float kv[SL_SRBF_CH_VL], r4[SL_SRBF_CH_NHV][SL_SRBF_CH_VL];
+    for (int l = 0; l < SL_SRBF_CH_VL; l++)
+        kv[l] = k;
+    sl_srbf_chiang_vmx(kv, r4);
     for (int n = 0; n < SL_SRBF_CH_NHV; n++)
         rho[n] = r4[n][0];
 }
@@ -369,35 +377,36 @@ SL_INLINE void sl_srbf_chiang_az_narrow(const sl_srbf_chiang_point *pt,
             v[ch] += r->tt_err[ch];
 }
 
-/* N'_g / z of group g at the 3 Gauss points of a lobe interval (kappa[j], j < 3; kappa[3] a
- * pad), into fz[ch][j][0] (R: the same for every channel). The wide branch's harmonic sums run
- * for the 4 lanes side by side (each lane's sum in the order of n, as one point alone); a point
- * where the kernel's last harmonic is not negligible takes the narrow branch instead. */
+/* N'_g / z of group g at the 3 Gauss points of a lobe interval (kappa[4 g + j], j < 3; rho: their
+ * harmonics, sl_srbf_chiang_vmx), into fz[ch][j][0] (R: the same for every channel). The wide
+ * branch's harmonic sums run for the group's 4 lanes side by side (each lane's sum in the order
+ * of n, as one point alone); a point where the kernel's last harmonic is not negligible takes
+ * the narrow branch instead. */
 SL_INLINE void sl_srbf_chiang_az3(const sl_srbf_chiang_point *pt, const sl_srbf_chiang_row *r,
                                   SL_GLOBAL const float *C, SL_GLOBAL const float *H, int g,
-                                  const float kappa[4],
+                                  const float kappa[SL_SRBF_CH_VL],
+                                  const float rho[SL_SRBF_CH_NHV][SL_SRBF_CH_VL],
                                   float fz[SL_SRBF_CH_MAXC][3][SL_DEON_MAX_ORDERS + 1]) {
-    int nc = g == 0 ? 1 : pt->nch, nch = pt->nch;
-    float rho[SL_SRBF_CH_NHV][4], wv[SL_SRBF_CH_MAXC][4];
-    sl_srbf_chiang_vm4(kappa, rho);
+    int nc = g == 0 ? 1 : pt->nch, nch = pt->nch, o = 4 * g;
+    float wv[SL_SRBF_CH_MAXC][4];
     for (int ch = 0; ch < nc; ch++) {
         const float *cf = g == 0 ? r->cR : r->c[ch][g - 1];
         float acc[4] = {0.0f, 0.0f, 0.0f, 0.0f};
         for (int n = 0; n < SL_SRBF_CH_NHV; n++)
             for (int l = 0; l < 4; l++)
-                acc[l] += rho[n][l] * cf[n];
+                acc[l] += rho[n][o + l] * cf[n];
         for (int l = 0; l < 4; l++)
             wv[ch][l] = acc[l];
     }
     for (int j = 0; j < 3; j++) {
         float v[SL_SRBF_CH_MAXC];
-        if (fabs(rho[SL_SRBF_CH_NH][j] * r->d_nh) < SL_SRBF_CH_EPS) { /* |k_NH| = rho_NH |d_NH| */
+        if (fabs(rho[SL_SRBF_CH_NH][o + j] * r->d_nh) < SL_SRBF_CH_EPS) { /* |k_NH| = rho_NH |d_NH| */
             for (int ch = 0; ch < nc; ch++)
                 v[ch] = wv[ch][j];
         } else {
             for (int ch = 0; ch < nc; ch++)
                 v[ch] = 0.0f;
-            sl_srbf_chiang_az_narrow(pt, r, C, H, g, kappa[j], v);
+            sl_srbf_chiang_az_narrow(pt, r, C, H, g, kappa[o + j], v);
         }
         for (int ch = 0; ch < nch; ch++)
             fz[ch][j][0] = sl_maxf(v[g == 0 ? 0 : ch], 0.0f);
@@ -420,6 +429,12 @@ SL_INLINE void sl_srbf_chiang_rgb_at(SL_GLOBAL const float *C, SL_GLOBAL const f
         out[k] = 0.0f;
     /* the trimmed logistic's peak pt->dmax bounds every N_p / E_p */
     float dmax = pt->dmax, rest = pt->restmax;
+    /* first every group's longitudinal lobe and Gauss points, then their harmonics together */
+    sl_srbf_deon_lobe L[3];
+    int act[3] = {0, 0, 0};
+    float kappa[SL_SRBF_CH_VL];
+    for (int l = 0; l < SL_SRBF_CH_VL; l++)
+        kappa[l] = 0.0f;
     for (int g = 0; g < 4; g++) {
         /* A group whose contribution cannot reach 1e-4 of the error floor 0.03 int G of
          * numerics.md sec. 5 is skipped: N'_p / z <= max N_p <= E_p dmax (R: <= 1/4), and the
@@ -427,23 +442,32 @@ SL_INLINE void sl_srbf_chiang_rgb_at(SL_GLOBAL const float *C, SL_GLOBAL const f
          * G_th <= 1); dark hair skips TT, TRT and the rest term before any lobe work */
         float bound = g == 0 ? 0.25f : (g < 3 ? 2.0f * SL_PI_F * pt->emax[g] * dmax : rest);
         if (!(4.0f * SL_PI_F * bound > 1e-4f * floor_)) continue;
-        sl_srbf_deon_lobe L; /* the rest term: TRT's variance, theta_o unshifted */
-        if (!sl_srbf_deon_lobe_init_pre(&pt->lobe[g], theta_j, cos_tj, sin_tj, inv_l2, &L))
-            continue;
-        if (g == 3) { /* uniform azimuth: exact at every node */
-            for (int ch = 0; ch < nch; ch++)
-                out[5 * ch + 3] += L.wsum * pt->rest[ch];
+        if (g == 3) { /* the rest term (TRT's variance, theta_o unshifted): uniform azimuth */
+            sl_srbf_deon_lobe Lr;
+            if (!sl_srbf_deon_lobe_init_pre(&pt->lobe[g], theta_j, cos_tj, sin_tj, inv_l2, &Lr))
+                continue;
+            for (int ch = 0; ch < nch; ch++) /* exact at every node */
+                out[5 * ch + 3] += Lr.wsum * pt->rest[ch];
             continue;
         }
-        if (!(L.wsum * bound > 1e-4f * floor_)) continue; /* the same with the actual weights */
-        float fz[SL_SRBF_CH_MAXC][3][SL_DEON_MAX_ORDERS + 1];
-        float kappa[4];
+        if (!sl_srbf_deon_lobe_init_pre(&pt->lobe[g], theta_j, cos_tj, sin_tj, inv_l2, &L[g]))
+            continue;
+        if (!(L[g].wsum * bound > 1e-4f * floor_)) continue; /* the same, the actual weights */
+        act[g] = 1;
         for (int j = 0; j < 3; j++)
-            kappa[j] = 2.0f * cos(sl_srbf_deon_lobe_ti(&L, j)) * cos_tj * inv_l2;
-        kappa[3] = kappa[2];
-        sl_srbf_chiang_az3(pt, &r, C, H, g, kappa, fz);
-        for (int ch = 0; ch < nch; ch++)
-            sl_srbf_deon_lobe_add(&L, fz[ch], 1, out + 5 * ch + g);
+            kappa[4 * g + j] = 2.0f * cos(sl_srbf_deon_lobe_ti(&L[g], j)) * cos_tj * inv_l2;
+        kappa[4 * g + 3] = kappa[4 * g + 2];
+    }
+    if (act[0] || act[1] || act[2]) {
+        float rho[SL_SRBF_CH_NHV][SL_SRBF_CH_VL];
+        sl_srbf_chiang_vmx(kappa, rho);
+        for (int g = 0; g < 3; g++) {
+            if (!act[g]) continue;
+            float fz[SL_SRBF_CH_MAXC][3][SL_DEON_MAX_ORDERS + 1];
+            sl_srbf_chiang_az3(pt, &r, C, H, g, kappa, rho, fz);
+            for (int ch = 0; ch < nch; ch++)
+                sl_srbf_deon_lobe_add(&L[g], fz[ch], 1, out + 5 * ch + g);
+        }
     }
     for (int ch = 0; ch < nch; ch++)
         sl_srbf_deon_total(2, out + 5 * ch);

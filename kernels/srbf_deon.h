@@ -114,16 +114,32 @@
             0.362683783378362f, 0.313706645877887f, 0.222381034453374f, 0.101228536290376f         \
     }
 #define SL_SRBF_DEON_Q3 0.774596669241483f /* sqrt(3/5) */
+/* The quadratic's Lagrange weights at the 8 nodes u_k (sl_srbf_deon_lobe_add): l0 = u (u - q) /
+ * 2q^2, l2 = u (u + q) / 2q^2, folded at compile time (the same float operations, so the same
+ * values as computing them per node). */
+#define SL_SRBF_DEON_LQ(u, sg)                                                                     \
+    ((u) * ((u)sg SL_SRBF_DEON_Q3) / (2.0f * SL_SRBF_DEON_Q3 * SL_SRBF_DEON_Q3))
+#define SL_SRBF_DEON_LQ8(sg)                                                                       \
+    {                                                                                              \
+        SL_SRBF_DEON_LQ(-0.960289856497536f, sg), SL_SRBF_DEON_LQ(-0.796666477413627f, sg),        \
+            SL_SRBF_DEON_LQ(-0.525532409916329f, sg), SL_SRBF_DEON_LQ(-0.183434642495650f, sg),    \
+            SL_SRBF_DEON_LQ(0.183434642495650f, sg), SL_SRBF_DEON_LQ(0.525532409916329f, sg),      \
+            SL_SRBF_DEON_LQ(0.796666477413627f, sg), SL_SRBF_DEON_LQ(0.960289856497536f, sg)       \
+    }
 #if SL_OPENCL
 static __constant float sl_srbf_deon_u[SL_SRBF_W_NODES] = SL_SRBF_DEON_U;
 static __constant float sl_srbf_deon_cu[7] = SL_SRBF_DEON_CU;
 static __constant float sl_srbf_deon_glx[8] = SL_SRBF_DEON_GLX;
 static __constant float sl_srbf_deon_glw[8] = SL_SRBF_DEON_GLW;
+static __constant float sl_srbf_deon_l0[8] = SL_SRBF_DEON_LQ8(-);
+static __constant float sl_srbf_deon_l2[8] = SL_SRBF_DEON_LQ8(+);
 #else
 static const float sl_srbf_deon_u[SL_SRBF_W_NODES] = SL_SRBF_DEON_U;
 static const float sl_srbf_deon_cu[7] = SL_SRBF_DEON_CU;
 static const float sl_srbf_deon_glx[8] = SL_SRBF_DEON_GLX;
 static const float sl_srbf_deon_glw[8] = SL_SRBF_DEON_GLW;
+static const float sl_srbf_deon_l0[8] = SL_SRBF_DEON_LQ8(-);
+static const float sl_srbf_deon_l2[8] = SL_SRBF_DEON_LQ8(+);
 #endif
 
 /* Beyond the tables' widest lobe (SL_SRBF_LMAX): a normalised circular Gaussian of
@@ -349,9 +365,7 @@ SL_INLINE void sl_srbf_deon_lobe_add(const sl_srbf_deon_lobe *L,
                                      float *out) {
     for (int k = 0; k < 8; k++) {
         if (!(L->wk[k] > 0.0f)) continue;
-        const float q = SL_SRBF_DEON_Q3, u = sl_srbf_deon_glx[k];
-        float l0 = u * (u - q) / (2.0f * q * q), l2 = u * (u + q) / (2.0f * q * q);
-        float l1 = 1.0f - l0 - l2;
+        float l0 = sl_srbf_deon_l0[k], l2 = sl_srbf_deon_l2[k], l1 = 1.0f - l0 - l2;
         for (int m = 0; m < nz; m++)
             out[m] += L->wk[k] * (l0 * fz[0][m] + l1 * fz[1][m] + l2 * fz[2][m]);
     }

@@ -5,7 +5,8 @@
  * 40-lobe fit), 3 sigma_a per row. Prints the scalar reference (one row at a time) and the
  * batched driver on the same rows, and the largest difference between them. Built and run by
  * test/bench/bench_srbf.sh against build/libstrandlight.a (not part of the unit tests: it
- * prints timings). Usage: bench_srbf_rows MATERIAL_JSON [MIN_SECONDS]. */
+ * prints timings). Usage: bench_srbf_rows MATERIAL_JSON [MIN_SECONDS [batched]] (batched: that
+ * one only, for a profiler). */
 #include "passes/shade/srbf_tables.h"
 #include "scene/material.h"
 #include "srbf_c.h"
@@ -107,6 +108,10 @@ int main(int argc, char **argv) {
     const char *name = sl_material_model_name(m.model);
     int marschner = fp.model == SL_MODEL_MARSCHNER;
     batch_fn sc = marschner ? fast_scalar : deon_scalar, bt = marschner ? fast_batch : deon_batch;
+    if (argc > 3 && !strcmp(argv[3], "batched")) {
+        printf("batched %.3g rows/s per core\n", rate(bt, &fp, &t, n, in, sig, o2, min_s));
+        return 0;
+    }
     double rs = rate(sc, &fp, &t, n, in, sig, o1, min_s);
     double rb = rate(bt, &fp, &t, n, in, sig, o2, min_s);
     double dmax = 0.0, vmax = 0.0;
