@@ -363,11 +363,16 @@ SL_INLINE float sl_srbf_deon_lobe_ti(const sl_srbf_deon_lobe *L, int j) {
 SL_INLINE void sl_srbf_deon_lobe_add(const sl_srbf_deon_lobe *L,
                                      const float fz[3][SL_DEON_MAX_ORDERS + 1], int nz,
                                      float *out) {
-    for (int k = 0; k < 8; k++) {
-        if (!(L->wk[k] > 0.0f)) continue;
-        float l0 = sl_srbf_deon_l0[k], l2 = sl_srbf_deon_l2[k], l1 = 1.0f - l0 - l2;
-        for (int m = 0; m < nz; m++)
-            out[m] += L->wk[k] * (l0 * fz[0][m] + l1 * fz[1][m] + l2 * fz[2][m]);
+    /* per output a local sum over the nodes in their order (out may alias nothing the loop
+     * reads, but the compiler cannot know: a store and reload per node otherwise) */
+    for (int m = 0; m < nz; m++) {
+        float acc = out[m];
+        for (int k = 0; k < 8; k++) {
+            if (!(L->wk[k] > 0.0f)) continue;
+            float l0 = sl_srbf_deon_l0[k], l2 = sl_srbf_deon_l2[k], l1 = 1.0f - l0 - l2;
+            acc += L->wk[k] * (l0 * fz[0][m] + l1 * fz[1][m] + l2 * fz[2][m]);
+        }
+        out[m] = acc;
     }
 }
 
