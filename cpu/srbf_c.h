@@ -12,7 +12,8 @@
 enum { SL_SRBF_METHOD_XU = 0, SL_SRBF_METHOD_FAST = 1 };
 
 /* in: 5 floats per row (theta_o, phi_o, theta_j, phi_j, lambda); out: 4 per row (I_R, I_TT,
- * I_TRT, I). C, H: the tables of host/passes/shade/srbf_tables.h. segments: m of Xu Sec. 4.2.2 (1..8). */
+ * I_TRT, I). C, H: the tables of host/passes/shade/srbf_tables.h. segments: m of Xu Sec. 4.2.2
+ * (1..8). */
 void slc_srbf_batch(const sl_fiber_params *fp, const float *C, const float *H, int method,
                     int segments, size_t n, const float *in, float *out);
 
@@ -27,7 +28,6 @@ void slc_srbf_rgb_batch(const sl_fiber_params *fp, const float *C, const float *
 /* The same, one sl_srbf_rgb_row per row: the reference the batch is tested and benchmarked
  * against (test/passes/shade/test_srbf_batch.c, test/bench/bench_srbf.sh). */
 void slc_srbf_rgb_scalar(const sl_fiber_params *fp, const float *C, const float *H, int method,
-                         int segments, size_t n, const float *in, const float *sigma_a,
-                         float *out);
+                         int segments, size_t n, const float *in, const float *sigma_a, float *out);
 
 #endif

@@ -110,9 +110,9 @@ SL_INLINE void sl_srbf_chiang_detector(SL_GLOBAL const float *D, float s, float 
 #define SL_SRBF_CH_VL 12
 
 /* rho[n][l] = I_n(k) / I_0(k), n = 0..SL_SRBF_CH_NH, for SL_SRBF_CH_VL concentrations k[l] at
- * once (the Gauss points of every lobe group of a row): the ratios r_n = I_n / I_(n-1) by the stable downward
- * recurrence r_n = 1 / (2n/k + r_(n+1)), started 8 orders above NH from the mean of Amos's
- * bounds k / (n - 1/2 + sqrt((n -+ 1/2)^2 + k^2)): where the recurrence does not damp the
+ * once (the Gauss points of every lobe group of a row): the ratios r_n = I_n / I_(n-1) by the
+ * stable downward recurrence r_n = 1 / (2n/k + r_(n+1)), started 8 orders above NH from the mean of
+ * Amos's bounds k / (n - 1/2 + sqrt((n -+ 1/2)^2 + k^2)): where the recurrence does not damp the
  * start's error (large k), the bounds' gap (~n / k^2 relative) is below float resolution, and
  * where they are loose (moderate k) the 8 extra steps damp it by prod r_n^2 < 1e-4. The
  * recurrence is a chain of 24 dependent divisions, once the costliest part of a chiang row: the
@@ -338,9 +338,9 @@ SL_INLINE void sl_srbf_chiang_row_init(const sl_srbf_chiang_point *pt, float phi
 
 /* N'_g / z of group g (0 R, 1 TT, 2 TRT), narrow branch, at the von Mises concentration kappa of
  * G_ph (one theta_i), added to v[0..nc-1] (R: v[0] only, the same for every channel). */
-SL_INLINE void sl_srbf_chiang_az_narrow(const sl_srbf_chiang_point *pt,
-                                        const sl_srbf_chiang_row *r, SL_GLOBAL const float *C,
-                                        SL_GLOBAL const float *H, int g, float kappa, float *v) {
+SL_INLINE void sl_srbf_chiang_az_narrow(const sl_srbf_chiang_point *pt, const sl_srbf_chiang_row *r,
+                                        SL_GLOBAL const float *C, SL_GLOBAL const float *H, int g,
+                                        float kappa, float *v) {
     int nc = g == 0 ? 1 : pt->nch;
     /* narrow: the logistic as two Gaussians, each folded into the width */
     float l2 = kappa > 1e-30f ? 2.0f / kappa : 1e30f, s = pt->s;
@@ -400,7 +400,8 @@ SL_INLINE void sl_srbf_chiang_az3(const sl_srbf_chiang_point *pt, const sl_srbf_
     }
     for (int j = 0; j < 3; j++) {
         float v[SL_SRBF_CH_MAXC];
-        if (fabs(rho[SL_SRBF_CH_NH][o + j] * r->d_nh) < SL_SRBF_CH_EPS) { /* |k_NH| = rho_NH |d_NH| */
+        if (fabs(rho[SL_SRBF_CH_NH][o + j] * r->d_nh) <
+            SL_SRBF_CH_EPS) { /* |k_NH| = rho_NH |d_NH| */
             for (int ch = 0; ch < nc; ch++)
                 v[ch] = wv[ch][j];
         } else {
@@ -414,8 +415,8 @@ SL_INLINE void sl_srbf_chiang_az3(const sl_srbf_chiang_point *pt, const sl_srbf_
 }
 
 /* The response to one SRBF lobe at the point pt (sl_srbf_chiang_point_init of the row's theta_o,
- * absorption and material): out[5 ch + k], ch < pt->nch, k = 0..4: I_0, I_1, I_2, I_rest, I (the d'Eon
- * layout with orders 2). */
+ * absorption and material): out[5 ch + k], ch < pt->nch, k = 0..4: I_0, I_1, I_2, I_rest, I (the
+ * d'Eon layout with orders 2). */
 SL_INLINE void sl_srbf_chiang_rgb_at(SL_GLOBAL const float *C, SL_GLOBAL const float *H,
                                      const sl_srbf_chiang_point *pt, float phi_o, float theta_j,
                                      float phi_j, float lambda, float *out) {

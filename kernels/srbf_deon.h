@@ -14,8 +14,8 @@
  *    variance l^2/2, the detector beta^2). R keeps Xu's exact C_k expansion for Schlick's part
  *    and the exact Fresnel's residual through W, as the Marschner fast path does. Orders 1, 2
  *    read the W slices of TT and TRT, orders 3..SL_SRBF_DEON_MAX_P the extra slices D built by
- *    host/passes/shade/srbf_tables.c; orders above that and the rest term have a uniform azimuth (exact
- *    for the rest term; for p > SL_SRBF_DEON_MAX_P an approximation, see docs/srbf.md).
+ *    host/passes/shade/srbf_tables.c; orders above that and the rest term have a uniform azimuth
+ * (exact for the rest term; for p > SL_SRBF_DEON_MAX_P an approximation, see docs/srbf.md).
  *  - longitudinal: G_th M_p = K exp(a cos ti + b sin ti) i0e(cos ti cos to' / v) exactly, a von
  *    Mises lobe in ti of centre atan2(b, a) and concentration |(a, b)|: 8 Gauss-Legendre nodes
  *    on centre +- 3.5 / sqrt(|(a, b)|) clipped to [-pi/2, pi/2], G_th M_p (log space) and
@@ -92,7 +92,8 @@
 
 /* U_i = omega_i / (2 pi), omega_i = int_0^{pi/2} L_i(cos u) cos u du = 1/2 int L_i(c(h)) dh:
  * the W weights of a uniform azimuth (lambda -> infinity), so E = sum A(c_i) omega_i is the
- * product rule for the energy 1/2 int A dh (test/passes/shade/test_srbf_deon.c checks them by quadrature). */
+ * product rule for the energy 1/2 int A dh (test/passes/shade/test_srbf_deon.c checks them by
+ * quadrature). */
 #define SL_SRBF_DEON_U                                                                             \
     {                                                                                              \
         0.00659695314057874f / 6.28318530717958648f, 0.116919608856975f / 6.28318530717958648f,    \

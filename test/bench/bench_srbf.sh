@@ -12,3 +12,18 @@ BUILD=${1:-build}
 DEVICE=${2:-opencl}
 "$BUILD/strandlight" report --kernel srbf --exact test/test_srbf_stiff.csv --device "$DEVICE" \
     --min-time 0.5 --csv docs/srbf_report.csv --svg docs/srbf_report.svg
+
+# Rows (point, lobe, RGB) per second per core of the renderer's batches, scalar reference vs
+# batched, in one run (test/bench/bench_srbf_rows.c, built here against the library: it is no
+# unit test, it prints timings): chiang (the default material's model, data/bench_goal.json's
+# material), d'Eon and the Marschner fast path.
+ROWS="$BUILD/bench_srbf_rows"
+${CC:-cc} -std=c11 -O2 -Wall -Wextra -Werror -Ihost -Ikernels -Icpu -D_DEFAULT_SOURCE \
+    -D_POSIX_C_SOURCE=200809L -o "$ROWS" test/bench/bench_srbf_rows.c "$BUILD/libstrandlight.a" \
+    -lOpenCL -lOpenEXR-3_1 -lOpenEXRCore-3_1 -lIex-3_1 -lImath-3_1 -lcjson -lstb -lembree3 \
+    -limgui -lglfw -lGL -lstdc++ -lpthread -lm
+echo
+for m in '{"model": "chiang", "melanin": 0.3, "roughness": 0.3, "radial_roughness": 0.3}' \
+    '{"model": "deon"}' '{"model": "marschner"}'; do
+    "$ROWS" "$m" 1
+done
