@@ -323,7 +323,9 @@ int sl_atomic_open(sl_atomic_file *af, const char *path, sl_err *e) {
 }
 
 int sl_atomic_commit(sl_atomic_file *af, sl_err *e) {
-    int bad = ferror(af->fp);
+    int bad = fflush(af->fp) != 0 || ferror(af->fp);
+    /* on disk before the rename (output_set.h): a crash must not leave the name with no data */
+    if (!bad && fsync(fileno(af->fp)) != 0 && errno != EINVAL) bad = 1;
     if (fclose(af->fp) != 0) bad = 1;
     af->fp = NULL;
     if (bad) {

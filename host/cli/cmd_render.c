@@ -10,6 +10,7 @@
 #include "plan/frame.h"
 #include "io/hair/hair.h"
 #include "io/image/image_write.h"
+#include "base/output_set.h"
 #include "scene/scene.h"
 #include "scene/scene_inputs.h"
 #include "passes/light/shadow.h"
@@ -170,13 +171,24 @@ static int write_outputs(const sl_fbuf *f, int aovs, const char *exr, const char
     }
     if (aovs & AOV_SHADOW) ch[nch++] = (sl_exr_channel){"shadow.Y", f->shadow};
     if (aovs & AOV_LOBES) ch[nch++] = (sl_exr_channel){"lobes.Y", f->lobes};
-    int rc = sl_exr_write(exr, f->width, f->height, ch, nch, use_float, e);
+    /* EXR and PNG are one set (issue 21): both written and fsynced under temporary names, then
+     * renamed back to back with ^C held off, so a reader never sees a new EXR beside an old PNG
+     * unless a SIGKILL lands between the two renames (docs/robustness.md section 5) */
+    sl_atomic_file ax, ap;
+    memset(&ap, 0, sizeof ap);
+    int rc = sl_exr_write_temp(exr, f->width, f->height, ch, nch, use_float, &ax, e);
     free(planes);
     free(mp);
     if (rc) return -1;
-    if (png && png[0] && sl_png_write(png, f->width, f->height, f->rgba, (float)exposure, e))
+    sl_kill_point("render: EXR complete under its temporary name");
+    if (png && png[0] &&
+        sl_png_write_temp(png, f->width, f->height, f->rgba, (float)exposure, &ap, e)) {
+        remove(ax.tmp_path);
         return -1;
-    return 0;
+    }
+    if (ap.tmp_path[0]) sl_kill_point("render: PNG complete under its temporary name");
+    sl_atomic_file *set[2] = {&ax, &ap};
+    return sl_output_set_commit(set, 2, e);
 }
 
 int cmd_render(int argc, char **argv) {

@@ -2,8 +2,9 @@
 # a FIFO, a device, a symbolic link, one of the run's own inputs (scene, map, lobes) or the
 # other output of the same run is refused with one line and exit 1, and nothing is touched;
 # `report -o DIR` never deletes a directory's files it did not write (only a directory holding
-# its manifest, or an empty one, is replaced); temporaries have unpredictable names, refuse an
-# existing file, and are gone after a normal run and after SIGTERM.
+# its manifest, or an empty one, is replaced) and swaps it in atomically; a render's EXR and PNG
+# change as one set; temporaries have unpredictable names, refuse an existing file, and are gone
+# after a normal run and after SIGTERM.
 . test/cli/lib.sh
 D="$TMP/outputs"
 rm -rf "$D"
@@ -56,6 +57,39 @@ left=$(ls -a "$D" | grep -c '\.tmp' || true)
 if [ "$left" -eq 0 ]; then pass out_sigterm_no_temporaries
 else fail out_sigterm_no_temporaries "$(ls -a "$D" | grep '\.tmp')"; fi
 
+# EXR + PNG are one set: a signal at any step of the output (SL_KILL_AT=k: the k-th kill point,
+# SL_KILL_SIGNAL: which signal) leaves both old or both new, never a new EXR beside an old PNG;
+# SIGTERM is held off between the two renames, so a TERM there lands after both
+pair_state() { # old / new / mixed
+    e=$(head -c 3 "$D/pa.exr"); p=$(head -c 3 "$D/pa.png")
+    if [ "$e" = old ] && [ "$p" = old ]; then echo old
+    elif [ "$e" != old ] && [ "$p" != old ] && [ -s "$D/pa.exr" ] && [ -s "$D/pa.png" ]; then echo new
+    else echo mixed; fi
+}
+npoints=$(SL_KILL_POINTS=1 r --exr "$D/pa.exr" --png "$D/pa.png" 2>&1 | grep -c 'kill point')
+if [ "$npoints" -eq 3 ]; then pass out_pair_kill_points; else fail out_pair_kill_points "$npoints points"; fi
+for k in 1 2 3; do
+    for sig in 15 2 1; do
+        echo old > "$D/pa.exr"; echo old > "$D/pa.png"
+        SL_KILL_AT=$k SL_KILL_SIGNAL=$sig r --exr "$D/pa.exr" --png "$D/pa.png" >/dev/null 2>&1; rc=$?
+        st=$(pair_state)
+        want=old; [ "$k" -eq 3 ] && want=new # the signal lands after the second rename
+        left=$(ls -a "$D" | grep -c '^pa\..*\.tmp' || true)
+        if [ "$rc" -eq $((128 + sig)) ] && [ "$st" = "$want" ] && [ "$left" -eq 0 ]; then
+            pass "out_pair_signal_${sig}_at_$k"
+        else fail "out_pair_signal_${sig}_at_$k" "rc=$rc state=$st (want $want) temporaries=$left"; fi
+    done
+    # SIGKILL cannot be held off: at points 1 and 2 the old pair stays whole (the temporaries
+    # stay too: no handler runs); point 3 is the documented window (a new EXR, the old PNG)
+    if [ "$k" -lt 3 ]; then
+        echo old > "$D/pa.exr"; echo old > "$D/pa.png"
+        SL_KILL_AT=$k r --exr "$D/pa.exr" --png "$D/pa.png" >/dev/null 2>&1
+        st=$(pair_state)
+        if [ "$st" = old ]; then pass "out_pair_sigkill_at_$k"; else fail "out_pair_sigkill_at_$k" "$st"; fi
+        rm -f "$D"/pa.*.tmp*
+    fi
+done
+
 sed "s#\"lobes\": \"lobes.json\"#\"file\": \"$PWD/data/env/city_256.hdr\"#" "$D/s.json" > "$D/rs.json"
 # report -o: a directory with a user's file is refused, the file kept; a fresh directory gets the
 # manifest, and a second report replaces it
@@ -69,8 +103,32 @@ if [ -z "${SL_OUTPUTS_SKIP_REPORT:-}" ]; then
     "$SL" report "$D/rs.json" --tiny --threads 1 -o "$D/rep" >/dev/null 2>&1
     "$SL" report "$D/rs.json" --tiny --threads 1 -o "$D/rep" >/dev/null 2>&1; rc=$?
     if [ "$rc" -eq 0 ] && [ -f "$D/rep/.strandlight-report" ] && [ -s "$D/rep/results.csv" ] &&
-       [ "$(ls -d "$D"/rep.tmp* 2>/dev/null | wc -l)" -eq 0 ]; then pass report_replaces_its_own
-    else fail report_replaces_its_own "rc=$rc: $(ls -a "$D/rep" 2>&1 | tr '\n' ' ')"; fi
+       [ "$(ls -d "$D"/rep.* 2>/dev/null | wc -l)" -eq 0 ] && [ ! -L "$D/rep" ]; then
+        pass report_replaces_its_own
+    else fail report_replaces_its_own "rc=$rc: $(ls -a "$D/rep" "$D" 2>&1 | tr '\n' ' ')"; fi
+    # the swap is one RENAME_EXCHANGE: SIGKILLed just before or just after it (SL_KILL_AT: the
+    # k-th kill point), DIR holds a whole report, every file its manifest lists (the swap at every
+    # point, and the link fallback, are unit tests: report_dir_kill_*)
+    whole() { [ -f "$1/.strandlight-report" ] && [ -s "$1/results.csv" ] &&
+              for f in $(sed -n 's/^file //p' "$1/.strandlight-report"); do [ -s "$1/$f" ] || return 1; done; }
+    rr() { "$SL" report "$D/rs.json" --tiny --threads 1 --device none -o "$D/rep" "$@"; }
+    pts=$(SL_KILL_POINTS=1 rr 2>&1 | grep 'kill point')
+    for what in "before the exchange" "exchanged"; do
+        k=$(printf '%s\n' "$pts" | grep ": report: $what\$" | sed 's/.*kill point \([0-9]*\):.*/\1/')
+        SL_KILL_AT=${k:-999} rr >/dev/null 2>&1; rc=$?
+        name=report_killed_$(echo "$what" | tr ' ' _)
+        if [ -n "$k" ] && [ "$rc" -eq 137 ] && [ -d "$D/rep" ] && whole "$D/rep"; then pass "$name"
+        else fail "$name" "k=$k rc=$rc: $(ls -a "$D/rep" 2>&1 | tr '\n' ' ')"; fi
+    done
+    rm -rf "$D"/rep.report-* # the old report a kill after the exchange leaves beside DIR
+    # where the filesystem has no RENAME_EXCHANGE: DIR becomes a link to a versioned directory,
+    # and each later swap is one rename of a link
+    SL_NO_RENAME_EXCHANGE=1 rr >/dev/null 2>&1; rc1=$?
+    SL_NO_RENAME_EXCHANGE=1 rr >/dev/null 2>&1; rc2=$?
+    n=$(ls -d "$D"/rep.* 2>/dev/null | wc -l)
+    if [ "$rc1" -eq 0 ] && [ "$rc2" -eq 0 ] && [ -L "$D/rep" ] && whole "$D/rep" && [ "$n" -eq 1 ]; then
+        pass report_link_fallback
+    else fail report_link_fallback "rc=$rc1,$rc2, $n beside: $(ls -la "$D" | tr '\n' ' ')"; fi
 fi
 
 # the disk cache's directory: created 0700; one others can write, or another user's, is not used

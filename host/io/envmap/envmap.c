@@ -16,6 +16,36 @@ int sl_envmap_size_ok(long long w, long long h, size_t n, double max_pixels_per_
     return px <= (1LL << 20) || (double)px <= max_pixels_per_byte * (double)n;
 }
 
+/* A positive number from the environment, else def. */
+static double env_limit(const char *var, double def) {
+    const char *v = getenv(var);
+    if (!v || !*v) return def;
+    char *end;
+    double x = strtod(v, &end);
+    return *end == 0 && x > 0 && x < 1e15 ? x : def;
+}
+
+int sl_decode_budget_ok(const char *name, const char *what, long long w, long long h,
+                        double raw_bytes_per_px, double out_bytes_per_px, size_t file_bytes,
+                        sl_err *e) {
+    double px = (double)w * (double)h;
+    double max_mb = env_limit("SL_IMAGE_MAX_MB", SL_IMAGE_MAX_MB_DEFAULT);
+    double mem = px * out_bytes_per_px;
+    if (mem > max_mb * 1048576.0)
+        return !sl_fail(e,
+                        "%s: %s: decoding %lld x %lld needs %.0f MiB, over the limit of %.0f MiB "
+                        "(SL_IMAGE_MAX_MB raises it)",
+                        name, what, w, h, mem / 1048576.0, max_mb);
+    double ratio = env_limit("SL_IMAGE_MAX_RATIO", SL_IMAGE_MAX_RATIO_DEFAULT);
+    double raw = px * raw_bytes_per_px;
+    if (raw > SL_IMAGE_RATIO_FLOOR && raw > ratio * (double)file_bytes)
+        return !sl_fail(e,
+                        "%s: %s: %lld x %lld decompresses to %.0f MiB from a %zu-byte file, over "
+                        "%.0f bytes per file byte (SL_IMAGE_MAX_RATIO raises it)",
+                        name, what, w, h, raw / 1048576.0, file_bytes, ratio);
+    return 1;
+}
+
 static int is_exr(const unsigned char *d, size_t n) {
     return n >= 4 && d[0] == 0x76 && d[1] == 0x2f && d[2] == 0x31 && d[3] == 0x01;
 }

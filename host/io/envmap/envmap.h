@@ -100,6 +100,24 @@ int sl_envmap_decode_memory(const unsigned char *data, size_t n, const char *nam
  * for a file of n bytes: at most max_pixels_per_byte * n pixels (any file may hold 2^20). */
 int sl_envmap_size_ok(long long w, long long h, size_t n, double max_pixels_per_byte);
 
+/* Decode limits from the header, before any pixel is decoded (issue 21: a 49 KB DWAB file
+ * declaring 16384 x 8192 cost 13.6 s and 3.16 GB). For a px-pixel image whose file holds
+ * raw_bytes_per_px bytes per pixel once decompressed (all its channels) and whose decoder keeps
+ * out_bytes_per_px bytes per pixel at its peak:
+ * - memory: px x out_bytes_per_px must stay within SL_IMAGE_MAX_MB MiB (default
+ *   SL_IMAGE_MAX_MB_DEFAULT: an 8192 x 4096 RGBA map decodes in about 1.4 GiB);
+ * - work: the decompressed bytes may exceed SL_IMAGE_MAX_RATIO (default
+ *   SL_IMAGE_MAX_RATIO_DEFAULT) times the file's size only below SL_IMAGE_RATIO_FLOOR bytes
+ *   (a flat test map of a few KB is fine). Deflate cannot pass 1032:1 and real DWA maps stay
+ *   under 50:1, so only a decompression bomb (DWA's flat blocks, PIZ's runs) is refused.
+ * Either is a one-line error naming the file, the limit and the variable that raises it. */
+#define SL_IMAGE_MAX_MB_DEFAULT 2048
+#define SL_IMAGE_MAX_RATIO_DEFAULT 1100
+#define SL_IMAGE_RATIO_FLOOR ((double)(16 << 20))
+int sl_decode_budget_ok(const char *name, const char *what, long long w, long long h,
+                        double raw_bytes_per_px, double out_bytes_per_px, size_t file_bytes,
+                        sl_err *e);
+
 /* How sl_envmap_sanitize treats NaN/Inf. */
 enum { SL_NONFINITE_ERROR = 0, SL_NONFINITE_CLAMP_WARN = 1, SL_NONFINITE_CLAMP_QUIET = 2 };
 /* Counts and clamps negatives (warning unless quiet) and non-finite values (per mode), then

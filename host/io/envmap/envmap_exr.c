@@ -463,6 +463,17 @@ static int decode_exr(const unsigned char *data, size_t n, const char *name, int
     plan p;
     const char *type_word = "", *layout = "";
     if (make_plan(chl, name, with_alpha, layer, &p, out, &type_word, &layout, e)) goto done;
+    /* decode limits from the header (envmap.h): every channel of the file is decompressed,
+     * the planes chosen are kept as floats, then copied out (RGB, alpha, the caller's RGBA) */
+    double raw_px = 0;
+    for (int i = 0; i < chl->num_channels; i++) {
+        const exr_attr_chlist_entry_t *c = &chl->entries[i];
+        double sub = (double)(c->x_sampling > 0 ? c->x_sampling : 1) *
+                     (double)(c->y_sampling > 0 ? c->y_sampling : 1);
+        raw_px += (c->pixel_type == EXR_PIXEL_HALF ? 2.0 : 4.0) / sub;
+    }
+    double out_px = 4.0 * p.nplanes + 12.0 + (with_alpha ? 4.0 + 16.0 : 0.0);
+    if (!sl_decode_budget_ok(name, "OpenEXR", w, h, raw_px, out_px, n, e)) goto done;
     size_t np = (size_t)w * (size_t)h;
     planes = sl_calloc(np * (size_t)p.nplanes, sizeof(float));
     for (int i = 0; i < p.nplanes; i++)

@@ -152,6 +152,8 @@ int sl_envmap_decode_hdr(const unsigned char *d, size_t n, const char *name, sl_
     if (!sl_envmap_size_ok(w, h, n, 32.0))
         return sl_fail(e, "%s: Radiance .hdr: implausible size %lld x %lld for a %zu-byte file",
                        name, w, h, n);
+    /* stb's floats and our copy (envmap.h): limits before the scanline walk and the decode */
+    if (!sl_decode_budget_ok(name, "Radiance .hdr", w, h, 4.0, 24.0, n, e)) return -1;
     if (walk_scanlines(d, n, pos, (long)w, (long)h, name, e)) return -1;
 
     int sw, sh, comp;

@@ -1,6 +1,7 @@
 /* image_write.c: EXR output through OpenEXRCore and tone-mapped sRGB PNG output through
  * stb_image_write, both written atomically (see image_write.h for the exact transforms). */
 #include "io/image/image_write.h"
+#include "base/output_set.h"
 
 #include <openexr.h>
 #include <stb/stb_image_write.h>
@@ -114,13 +115,19 @@ static exr_result_t write_chunks(exr_context_t ctx, int w, int h, const sl_exr_c
     return rv;
 }
 
-int sl_exr_write(const char *path, int w, int h, const sl_exr_channel *ch, int nch, int use_float,
-                 sl_err *e) {
+int sl_exr_write_temp(const char *path, int w, int h, const sl_exr_channel *ch, int nch,
+                      int use_float, sl_atomic_file *af, sl_err *e) {
+    memset(af, 0, sizeof *af);
     if (check_channels(path, w, h, ch, nch, e)) return -1;
+    if (strlen(path) + 64 >= sizeof af->path) return sl_fail(e, "%s: path too long", path);
     if (sl_make_parent_dirs(path, e)) return -1;
-    char tmp[4200];
-    int fd = sl_temp_create(path, tmp, sizeof tmp, e);
-    if (fd < 0) return -1;
+    snprintf(af->path, sizeof af->path, "%s", path);
+    char *tmp = af->tmp_path;
+    int fd = sl_temp_create(path, tmp, sizeof af->tmp_path, e);
+    if (fd < 0) {
+        tmp[0] = 0;
+        return -1;
+    }
     /* OpenEXRCore writes through our descriptor (write_fn): the temporary was created here with
      * O_EXCL | O_NOFOLLOW, never reopened by name. */
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
@@ -152,20 +159,30 @@ int sl_exr_write(const char *path, int w, int h, const sl_exr_channel *ch, int n
         rv = frv;
         stage = "finishing file";
     }
+    /* on disk before any rename (output_set.h) */
+    if (rv == EXR_ERR_SUCCESS && fsync(fd) != 0 && errno != EINVAL) {
+        rv = EXR_ERR_WRITE_IO;
+        stage = "flushing file";
+    }
     if (close(fd) != 0 && rv == EXR_ERR_SUCCESS) {
         rv = EXR_ERR_WRITE_IO;
         stage = "closing file";
     }
     if (rv != EXR_ERR_SUCCESS) {
         remove(tmp);
+        tmp[0] = 0;
         return sl_fail(e, "%s: cannot write OpenEXR (%s): %s", path, stage,
                        exr_get_default_error_message(rv));
     }
-    if (rename(tmp, path) != 0) {
-        remove(tmp);
-        return sl_fail(e, "%s: cannot rename temporary file into place", path);
-    }
     return 0;
+}
+
+int sl_exr_write(const char *path, int w, int h, const sl_exr_channel *ch, int nch, int use_float,
+                 sl_err *e) {
+    sl_atomic_file af;
+    if (sl_exr_write_temp(path, w, h, ch, nch, use_float, &af, e)) return -1;
+    sl_atomic_file *set[1] = {&af};
+    return sl_output_set_commit(set, 1, e);
 }
 
 float sl_tonemap_srgb(float x) {
@@ -204,7 +221,9 @@ static void png_collect(void *ctx, void *data, int size) {
     b->n += (size_t)size;
 }
 
-int sl_png_write(const char *path, int w, int h, const float *rgba, float exposure, sl_err *e) {
+int sl_png_write_temp(const char *path, int w, int h, const float *rgba, float exposure,
+                      sl_atomic_file *af, sl_err *e) {
+    memset(af, 0, sizeof *af);
     if (w < 1 || h < 1 || w > 1 << 16 || h > 1 << 16 || !rgba)
         return sl_fail(e, "%s: cannot write a %d x %d PNG", path, w, h);
     if (!isfinite(exposure)) return sl_fail(e, "%s: exposure must be finite", path);
@@ -226,12 +245,18 @@ int sl_png_write(const char *path, int w, int h, const float *rgba, float exposu
         free(b.data);
         return sl_fail(e, "%s: PNG encoding failed", path);
     }
-    sl_atomic_file af;
-    if (sl_atomic_open(&af, path, e)) {
+    if (sl_atomic_open(af, path, e)) {
         free(b.data);
         return -1;
     }
-    fwrite(b.data, 1, b.n, af.fp);
+    fwrite(b.data, 1, b.n, af->fp);
     free(b.data);
-    return sl_atomic_commit(&af, e);
+    return sl_atomic_finish(af, e);
+}
+
+int sl_png_write(const char *path, int w, int h, const float *rgba, float exposure, sl_err *e) {
+    sl_atomic_file af;
+    if (sl_png_write_temp(path, w, h, rgba, exposure, &af, e)) return -1;
+    sl_atomic_file *set[1] = {&af};
+    return sl_output_set_commit(set, 1, e);
 }

@@ -33,6 +33,15 @@ int sl_exr_write(const char *path, int w, int h, const sl_exr_channel *ch, int n
  * Returns 0 or -1 with e set. */
 int sl_png_write(const char *path, int w, int h, const float *rgba, float exposure, sl_err *e);
 
+/* The same two writers without the rename (issue 21, base/output_set.h): the file is written
+ * completely and fsynced under a temporary name beside path, recorded in af (af->path, the
+ * temporary af->tmp_path), for sl_output_set_commit to put in place together with others (a
+ * render's EXR and PNG). On failure nothing is left and af->tmp_path is empty. */
+int sl_exr_write_temp(const char *path, int w, int h, const sl_exr_channel *ch, int nch,
+                      int use_float, sl_atomic_file *af, sl_err *e);
+int sl_png_write_temp(const char *path, int w, int h, const float *rgba, float exposure,
+                      sl_atomic_file *af, sl_err *e);
+
 /* The per-channel display transform of steps 3-4 (tone map + sRGB OETF) as a value in [0, 1]. */
 float sl_tonemap_srgb(float x);
 

@@ -1,7 +1,7 @@
 /* report_scene.c: `strandlight report SCENE.json` (see report_scene.h): reference once (cached),
  * the fast pipeline over a sweep of settings, error of each against the reference
  * (numerics.md sec. 6), results.csv + report.md + error_vs_time.svg written into a temporary
- * directory that is renamed to the report directory at the end. */
+ * directory that is swapped in for the report directory at the end (report_dir.h). */
 #include "verify/report/report_scene.h"
 
 #include "scene/camera.h"
@@ -12,6 +12,7 @@
 #include "io/image/image_write.h"
 #include "verify/reference/reference.h"
 #include "verify/reference/reference_path.h"
+#include "verify/report/report_dir.h"
 #include "scene/scene.h"
 #include "scene/scene_inputs.h"
 #include "srbf_c.h"
@@ -703,65 +704,6 @@ static int write_svg(const char *path, const run_res *r, int n, const sl_referen
     return sl_atomic_commit(&af, e);
 }
 
-/* The file every report directory holds: `report -o DIR` replaces only a directory that has it
- * (or an empty one), so it never deletes a user's own files (issue 21). */
-#define SL_REPORT_MANIFEST ".strandlight-report"
-
-/* An existing -o DIR must be a report directory (its manifest) or empty; anything else is
- * refused before the work, nothing in it touched. */
-static int out_dir_ok(const char *dir, sl_err *e) {
-    struct stat st;
-    if (lstat(dir, &st) != 0) return 0; /* new */
-    if (S_ISLNK(st.st_mode))
-        return sl_fail(e, "report: -o %s: is a symbolic link (neither followed nor replaced)", dir);
-    if (!S_ISDIR(st.st_mode))
-        return sl_fail(e, "report: -o %s: exists and is not a directory", dir);
-    char m[4400];
-    snprintf(m, sizeof m, "%s/%s", dir, SL_REPORT_MANIFEST);
-    if (lstat(m, &st) == 0 && S_ISREG(st.st_mode)) return 0;
-    DIR *d = opendir(dir);
-    if (!d) return sl_fail(e, "report: -o %s: %s", dir, strerror(errno));
-    struct dirent *de;
-    int other = 0;
-    while ((de = readdir(d)))
-        if (strcmp(de->d_name, ".") && strcmp(de->d_name, "..")) other = 1;
-    closedir(d);
-    if (other)
-        return sl_fail(e,
-                       "report: -o %s: exists and is not a report directory (no %s in it): "
-                       "nothing in it is touched; choose a new or empty directory",
-                       dir, SL_REPORT_MANIFEST);
-    return 0;
-}
-
-/* Removes a previous report directory (only the files this command writes; anything else
- * makes the rmdir fail, and the error says so). */
-static int report_file(const char *name) {
-    size_t n = strlen(name);
-    if (!strcmp(name, SL_REPORT_MANIFEST) || !strcmp(name, "results.csv") ||
-        !strcmp(name, "report.md") || !strcmp(name, "error_vs_time.svg") ||
-        !strcmp(name, "reference.png") || !strcmp(name, "reference_fragments.png"))
-        return 1;
-    return !strncmp(name, "heat_", 5) && n > 9 && !strcmp(name + n - 4, ".png");
-}
-
-static int remove_report_dir(const char *dir, sl_err *e) {
-    DIR *d = opendir(dir);
-    if (d) {
-        struct dirent *de;
-        char p[4400];
-        while ((de = readdir(d)))
-            if (report_file(de->d_name)) {
-                snprintf(p, sizeof p, "%s/%s", dir, de->d_name);
-                unlink(p);
-            }
-        closedir(d);
-    }
-    if (rmdir(dir) && errno != ENOENT)
-        return sl_fail(e, "%s: cannot replace the old report directory: %s", dir, strerror(errno));
-    return 0;
-}
-
 /* ------------------------------------------------------------------------------ main */
 
 static void scene_name(const char *path, char *out, size_t n) {
@@ -806,7 +748,8 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
     memset(&rf, 0, sizeof rf);
     char frag_path[4600];
     char cl_name[1200] = "not run (--device none)";
-    char tmpdir[4400] = "";
+    sl_report_dir rd;
+    int rd_open = 0;
 
     if (sl_scene_inputs_open(o->scene, &io, &in, e)) goto done;
     char out_dir[4096], name[256];
@@ -818,7 +761,8 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
     size_t odl = strlen(out_dir);
     while (odl > 1 && out_dir[odl - 1] == '/')
         out_dir[--odl] = 0;
-    if (out_dir_ok(out_dir, e)) goto done; /* before any long work (the lobe fit, below) */
+    /* before any long work (the lobe fit, below) */
+    if (sl_report_dir_check(out_dir, e)) goto done;
     sl_scene *s = in.scene;
     if (!s->env_file[0]) {
         sl_fail(e,
@@ -988,56 +932,40 @@ int sl_report_scene(const sl_report_scene_opts *o, sl_err *e) {
     mark_pareto(res, nruns, MET_PIXEL);
     mark_pareto(res, nruns, MET_FRAG);
 
-    /* outputs into a temporary directory, renamed at the end */
-    /* an unpredictable name of our own (mkdtemp: created 0700, then opened up as the umask
-     * allows), never an existing directory or link */
-    if (sl_make_parent_dirs(out_dir, e)) goto done;
-    snprintf(tmpdir, sizeof tmpdir, "%s.tmp.XXXXXX", out_dir);
-    if (!mkdtemp(tmpdir)) {
-        sl_fail(e, "%s: cannot create a temporary directory: %s", out_dir, strerror(errno));
-        tmpdir[0] = 0;
-        goto done;
-    }
-    {
-        mode_t um = umask(022);
-        umask(um);
-        chmod(tmpdir, 0777 & ~um);
-    }
+    /* outputs into a temporary directory, swapped in at the end (report_dir.h) */
+    if (sl_report_dir_begin(&rd, out_dir, e)) goto done;
+    rd_open = 1;
     char p[4500];
-    snprintf(p, sizeof p, "%s/%s", tmpdir, SL_REPORT_MANIFEST);
-    {
-        sl_atomic_file mf;
-        if (sl_atomic_open(&mf, p, e)) goto done;
-        fprintf(mf.fp, "strandlight report directory: `report -o` replaces it whole\n");
-        if (sl_atomic_commit(&mf, e)) goto done;
-    }
-    snprintf(p, sizeof p, "%s/reference.png", tmpdir);
-    if (sl_png_write(p, w, hgt, ref.rgba, 0.0f, e)) goto done;
-    snprintf(p, sizeof p, "%s/reference_fragments.png", tmpdir);
-    if (sl_png_write(p, w, hgt, ref_frag.rgba, 0.0f, e)) goto done;
+    if (!sl_report_dir_file(&rd, "reference.png", p, sizeof p, e) ||
+        sl_png_write(p, w, hgt, ref.rgba, 0.0f, e))
+        goto done;
+    if (!sl_report_dir_file(&rd, "reference_fragments.png", p, sizeof p, e) ||
+        sl_png_write(p, w, hgt, ref_frag.rgba, 0.0f, e))
+        goto done;
     for (int i = 0; i < nruns; i++)
         if (res[i].pareto) {
-            snprintf(p, sizeof p, "%s/heat_%02d.png", tmpdir, res[i].index);
-            if (sl_png_write(p, w, hgt, res[i].heat, 0.0f, e)) goto done;
+            char hn[32];
+            snprintf(hn, sizeof hn, "heat_%02d.png", res[i].index);
+            if (!sl_report_dir_file(&rd, hn, p, sizeof p, e) ||
+                sl_png_write(p, w, hgt, res[i].heat, 0.0f, e))
+                goto done;
         }
-    snprintf(p, sizeof p, "%s/results.csv", tmpdir);
-    if (write_csv(p, res, nruns, &rr, &rf, use_path ? &pr : NULL, w, hgt, aa, e)) goto done;
-    snprintf(p, sizeof p, "%s/report.md", tmpdir);
-    if (write_md(p, o->scene, res, nruns, &rr, &rf, use_path ? &pr : NULL, w, hgt, aa, mode,
+    if (!sl_report_dir_file(&rd, "results.csv", p, sizeof p, e) ||
+        write_csv(p, res, nruns, &rr, &rf, use_path ? &pr : NULL, w, hgt, aa, e))
+        goto done;
+    if (!sl_report_dir_file(&rd, "report.md", p, sizeof p, e) ||
+        write_md(p, o->scene, res, nruns, &rr, &rf, use_path ? &pr : NULL, w, hgt, aa, mode,
                  cl_name, e))
         goto done;
-    snprintf(p, sizeof p, "%s/error_vs_time.svg", tmpdir);
-    if (write_svg(p, res, nruns, &rr, &rf, e)) goto done;
-    if (remove_report_dir(out_dir, e)) goto done;
-    if (rename(tmpdir, out_dir)) {
-        sl_fail(e, "%s: cannot rename %s: %s", out_dir, tmpdir, strerror(errno));
+    if (!sl_report_dir_file(&rd, "error_vs_time.svg", p, sizeof p, e) ||
+        write_svg(p, res, nruns, &rr, &rf, e))
         goto done;
-    }
-    tmpdir[0] = 0;
+    rd_open = 0;
+    if (sl_report_dir_commit(&rd, e)) goto done;
     sl_note("report: %d runs -> %s/ (results.csv, report.md, error_vs_time.svg)", nruns, out_dir);
     rc = 0;
 done:
-    if (tmpdir[0]) remove_report_dir(tmpdir, &(sl_err){{0}});
+    if (rd_open) sl_report_dir_abort(&rd);
     sl_reference_frame_free(&ref);
     sl_reference_frame_free(&ref_frag);
     for (int i = 0; i < nruns; i++)
