@@ -9,6 +9,14 @@ void slc_dodm_cumulate(uint64_t *bins, size_t plane, unsigned K) {
             bins[k * plane + t] += bins[(k - 1) * plane + t];
 }
 
+void slc_dodm_cumulate_texel(const uint64_t *bins, size_t plane, unsigned K, uint64_t *planes) {
+    for (size_t t = 0; t < plane; t++) {
+        uint64_t s = 0;
+        for (unsigned k = 0; k < K; k++)
+            planes[k * plane + t] = s += bins[t * K + k];
+    }
+}
+
 void slc_dodm_sat(uint64_t *a, int w, int h, unsigned K) {
     for (unsigned k = 0; k < K; k++) {
         uint64_t *p = a + (size_t)k * w * h;

@@ -8,6 +8,9 @@
 
 /* Plane k of the K planes of w * h values becomes the sum of planes 0..k. */
 void slc_dodm_cumulate(uint64_t *bins, size_t plane, unsigned K);
+/* The same from texel-major bins (bins[t K + k], cpu/raster.h: slc_raster_layers_texel) into
+ * planes (planes[k plane + t] = the sum of bins[t K + 0 .. k]). */
+void slc_dodm_cumulate_texel(const uint64_t *bins, size_t plane, unsigned K, uint64_t *planes);
 /* Every plane becomes its inclusive summed-area table (exact, modulo 2^64). */
 void slc_dodm_sat(uint64_t *a, int w, int h, unsigned K);
 /* T[i] = exp(-tau) at n points (u, v, z) (kernels/dodm.h: sl_dodm_tau). */

@@ -74,19 +74,55 @@ static int rec_inside(const float *rec, int w, int h) {
     return xl - 2.5 >= 0.0 && yl - 2.5 >= 0.0 && xh + 2.5 < (double)w && yh + 2.5 < (double)h;
 }
 
+/* *p = min(*p, b) where the share rounds to a non-zero integer (llrintf(share) == 0 <=>
+ * share <= 0.5: share >= 0, and rint(0.5) = 0 by ties-to-even); written as selects, so the
+ * compiler emits conditional moves instead of two unpredictable branches a corner. */
+static inline void z0_min(uint32_t *p, uint32_t b, float share) {
+    const uint32_t v = *p;
+    *p = (share > 0.5f) & (b < v) ? b : v;
+}
+
+/* One in-map record's first depths (rec_inside holds): the walk of sl_splat_next_sample
+ * (kernels/splat.h) written out for the C path, with the same float operations from
+ * kernels/raster.h in the same order (sl_raster_sample, sl_raster_tent, sl_raster_share), so the
+ * same texels get the same depths; only the iterator's state is kept in registers instead of a
+ * struct, and the four corners are written directly (no bounds test is needed). Why: the light
+ * pass walks ~2.7 M samples per 256^2 map on the goal scene, and the generic walk cost ~16 ns a
+ * sample in this pass (docs/performance.md, "Light pass (session 7)"). */
+static void z0_inside(const float *rec, int w, uint32_t *z0bits) {
+    const float m = rec[8];
+    const sl_uint na = (sl_uint)rec[9], nw = (sl_uint)rec[10];
+    for (sl_uint i = 0; i < na; i++)
+        for (sl_uint j = 0; j < nw; j++) {
+            float x, y, z, fx, fy;
+            sl_int ix, iy;
+            sl_raster_sample(rec, i, j, &x, &y, &z);
+            sl_raster_tent(x, y, &ix, &iy, &fx, &fy);
+            const float gx = 1.0f - fx, gy = 1.0f - fy;
+            const uint32_t b = bits_of(z);
+            uint32_t *p = z0bits + (size_t)iy * w + ix;
+            z0_min(p, b, sl_raster_share(m, gx, gy));
+            z0_min(p + 1, b, sl_raster_share(m, fx, gy));
+            z0_min(p + w, b, sl_raster_share(m, gx, fy));
+            z0_min(p + w + 1, b, sl_raster_share(m, fx, fy));
+        }
+}
+
 void slc_raster_z0(const float *recs, size_t nseg, int w, int h, uint32_t *z0bits) {
     for (size_t t = 0; t < (size_t)w * h; t++)
         z0bits[t] = SL_RASTER_Z_EMPTY;
     for (size_t s = 0; s < nseg; s++) {
         const float *rec = recs + s * SL_RASTER_REC;
+        if (rec_inside(rec, w, h)) {
+            z0_inside(rec, w, z0bits);
+            continue;
+        }
         sl_splat it;
-        sl_splat_begin(&it, rec, w, h, !rec_inside(rec, w, h));
+        sl_splat_begin(&it, rec, w, h, 1);
         /* a sample at a time: the corner-by-corner walk costs more than this compare */
         while (sl_splat_next_sample(&it)) {
             const uint32_t b = bits_of(it.z);
             for (int c = 0; c < 4; c++) {
-                /* llrintf(share) == 0 <=> share <= 0.5 (share >= 0; rint(0.5) = 0 by
-                 * ties-to-even) */
                 if (!(it.left >> c & 1u) || !(it.sh[c] > 0.5f)) continue;
                 uint32_t *p = &z0bits[(size_t)(it.iy + (c >> 1)) * w + (it.ix + (c & 1))];
                 if (b < *p) *p = b;
@@ -96,11 +132,13 @@ void slc_raster_z0(const float *recs, size_t nseg, int w, int h, uint32_t *z0bit
 }
 
 /* sl_raster_layer with the boundaries precomputed: bnd[k] = (float)((k + 1)(k + 2) / 2) d, the
- * same float the kernel compares against. */
+ * same float the kernel compares against. The boundaries do not decrease (d > 0; rounding is
+ * monotonic), so the loop's k, the first boundary dz does not pass, is the number of boundaries
+ * it passes: a count without branches (NaN passes none: 0 either way). */
 static inline unsigned layer_of(float dz, const float *bnd, unsigned K) {
     unsigned k = 0;
-    while (k + 1u < K && dz > bnd[k])
-        k++;
+    for (unsigned b = 0; b + 1u < K; b++)
+        k += dz > bnd[b];
     return k;
 }
 
@@ -110,27 +148,115 @@ static inline float z0_of(const uint32_t *z0bits, size_t t) {
     return z0;
 }
 
-void slc_raster_layers(const float *recs, size_t nseg, int w, int h, unsigned K, float d,
-                       const uint32_t *z0bits, uint64_t *bins) {
+/* Where layer k of texel t lives: bins[k * ks + t * ts] (planes: ks = w h, ts = 1; texel-major:
+ * ks = 1, ts = K, a texel's K layers in one cache line). */
+typedef struct layer_out {
+    uint64_t *bins;
+    size_t ks, ts;
+    const float *bnd;
+    unsigned K;
+    const uint32_t *z0bits;
+} layer_out;
+
+static inline void layer_add(const layer_out *o, size_t t, float share, float z) {
+    const uint64_t q = round_share(share);
+    if (q == 0) return;
+    o->bins[layer_of(z - z0_of(o->z0bits, t), o->bnd, o->K) * o->ks + t * o->ts] += q;
+}
+
+/* Corner t of an in-map sample with K layers side by side (texel-major): the share is added
+ * whether or not it rounds to 0 (adding 0 changes no sum), so there is no branch; a zero share's
+ * texel may have no first depth (dz = -inf: layer 0), harmless for the same reason. */
+static inline __attribute__((always_inline)) void layer_add_tk(uint64_t *bins, const float *bnd,
+                                                               const uint32_t *z0bits, unsigned K,
+                                                               size_t t, float share, float z) {
+    bins[t * K + layer_of(z - z0_of(z0bits, t), bnd, K)] += round_share(share);
+}
+
+/* One in-map record's layers: the walk of sl_splat_next written out as z0_inside is (same
+ * operations, same texels and shares). texel-major with K a constant after inlining (the
+ * renderer's K = 4 gets its own copy: the layer count and the index unrolled). */
+static inline __attribute__((always_inline)) void layers_inside_tk(const float *rec, int w,
+                                                                   const layer_out *o, unsigned K) {
+    const float m = rec[8];
+    const sl_uint na = (sl_uint)rec[9], nw = (sl_uint)rec[10];
+    uint64_t *bins = o->bins;
+    const float *bnd = o->bnd;
+    const uint32_t *z0 = o->z0bits;
+    for (sl_uint i = 0; i < na; i++)
+        for (sl_uint j = 0; j < nw; j++) {
+            float x, y, z, fx, fy;
+            sl_int ix, iy;
+            sl_raster_sample(rec, i, j, &x, &y, &z);
+            sl_raster_tent(x, y, &ix, &iy, &fx, &fy);
+            const float gx = 1.0f - fx, gy = 1.0f - fy;
+            const size_t t = (size_t)iy * w + ix;
+            layer_add_tk(bins, bnd, z0, K, t, sl_raster_share(m, gx, gy), z);
+            layer_add_tk(bins, bnd, z0, K, t + 1, sl_raster_share(m, fx, gy), z);
+            layer_add_tk(bins, bnd, z0, K, t + w, sl_raster_share(m, gx, fy), z);
+            layer_add_tk(bins, bnd, z0, K, t + w + 1, sl_raster_share(m, fx, fy), z);
+        }
+}
+
+/* The same for any layout (planes, or texel-major with an uncommon K). */
+static void layers_inside(const float *rec, int w, const layer_out *o) {
+    if (o->ks == 1 && o->K == 4) {
+        layers_inside_tk(rec, w, o, 4);
+        return;
+    }
+    if (o->ks == 1) {
+        layers_inside_tk(rec, w, o, o->K);
+        return;
+    }
+    const float m = rec[8];
+    const sl_uint na = (sl_uint)rec[9], nw = (sl_uint)rec[10];
+    for (sl_uint i = 0; i < na; i++)
+        for (sl_uint j = 0; j < nw; j++) {
+            float x, y, z, fx, fy;
+            sl_int ix, iy;
+            sl_raster_sample(rec, i, j, &x, &y, &z);
+            sl_raster_tent(x, y, &ix, &iy, &fx, &fy);
+            const float gx = 1.0f - fx, gy = 1.0f - fy;
+            const size_t t = (size_t)iy * w + ix;
+            layer_add(o, t, sl_raster_share(m, gx, gy), z);
+            layer_add(o, t + 1, sl_raster_share(m, fx, gy), z);
+            layer_add(o, t + w, sl_raster_share(m, gx, fy), z);
+            layer_add(o, t + w + 1, sl_raster_share(m, fx, fy), z);
+        }
+}
+
+static void layers_run(const float *recs, size_t nseg, int w, int h, unsigned K, float d,
+                       const uint32_t *z0bits, uint64_t *bins, int texel_major) {
     const size_t plane = (size_t)w * h;
+    if (K > SL_RASTER_MAX_LAYERS) K = SL_RASTER_MAX_LAYERS;
     memset(bins, 0, K * plane * sizeof *bins);
     float bnd[SL_RASTER_MAX_LAYERS];
-    if (K > SL_RASTER_MAX_LAYERS) K = SL_RASTER_MAX_LAYERS;
     for (unsigned k = 0; k + 1u < K; k++)
         bnd[k] = (float)((k + 1u) * (k + 2u) / 2u) * d;
+    const layer_out o = {bins, texel_major ? 1 : plane, texel_major ? K : 1, bnd, K, z0bits};
     for (size_t s = 0; s < nseg; s++) {
         const float *rec = recs + s * SL_RASTER_REC;
+        if (rec_inside(rec, w, h)) {
+            layers_inside(rec, w, &o);
+            continue;
+        }
         sl_splat it;
-        sl_splat_begin(&it, rec, w, h, !rec_inside(rec, w, h));
+        sl_splat_begin(&it, rec, w, h, 1);
         sl_int tx, ty;
         float share, z;
-        while (sl_splat_next(&it, &tx, &ty, &share, &z)) {
-            const uint64_t q = round_share(share);
-            if (q == 0) continue;
-            const size_t t = (size_t)ty * w + tx;
-            bins[layer_of(z - z0_of(z0bits, t), bnd, K) * plane + t] += q;
-        }
+        while (sl_splat_next(&it, &tx, &ty, &share, &z))
+            layer_add(&o, (size_t)ty * w + tx, share, z);
     }
+}
+
+void slc_raster_layers(const float *recs, size_t nseg, int w, int h, unsigned K, float d,
+                       const uint32_t *z0bits, uint64_t *bins) {
+    layers_run(recs, nseg, w, h, K, d, z0bits, bins, 0);
+}
+
+void slc_raster_layers_texel(const float *recs, size_t nseg, int w, int h, unsigned K, float d,
+                             const uint32_t *z0bits, uint64_t *bins) {
+    layers_run(recs, nseg, w, h, K, d, z0bits, bins, 1);
 }
 
 void slc_raster_z0_dilate(uint32_t *z0bits, int w, int h, int m, uint32_t *tmp) {

@@ -28,5 +28,10 @@ void slc_raster_z0_dilate(uint32_t *z0bits, int w, int h, int m, uint32_t *tmp);
  * (z - z0) inside layer k (kernels/raster.h: sl_raster_layer). Zeroes bins (K planes) itself. */
 void slc_raster_layers(const float *recs, size_t nseg, int w, int h, unsigned K, float d,
                        const uint32_t *z0bits, uint64_t *bins);
+/* Pass 2 into texel-major bins: bins[t * K + k] (a texel's layers side by side, so the four tent
+ * corners of a sample touch one or two cache lines instead of 4 K); the same sums as
+ * slc_raster_layers. cpu/dodm.h: slc_dodm_cumulate_texel turns them into planes. */
+void slc_raster_layers_texel(const float *recs, size_t nseg, int w, int h, unsigned K, float d,
+                             const uint32_t *z0bits, uint64_t *bins);
 
 #endif

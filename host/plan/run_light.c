@@ -97,24 +97,20 @@ int sl_pass_light(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     r->light = sl_calloc(nmaps ? nmaps : 1, sizeof *r->light);
     r->light_lobe = sl_malloc((nmaps ? nmaps : 1) * sizeof *r->light_lobe);
     r->light_w = sl_malloc((nmaps ? nmaps : 1) * sizeof *r->light_w);
-    sl_progress pr;
-    sl_progress_begin(&pr, "light pass");
+    /* one batch for every map: the segments prepared once, whole maps per thread on C */
+    if (nmaps && sl_shadow_build_maps(r->dev, h, nmaps, sm.dir, sm.lambda, &so, r->light, e)) {
+        r->nlights = 0;
+        sl_frame_free_lights(r);
+        free(want);
+        sl_shadow_maps_free(&sm);
+        return -1;
+    }
     for (int m = 0; m < nmaps; m++) {
-        if (sl_shadow_build(r->dev, h, sm.dir + 3 * m, sm.lambda[m], &so, &r->light[m], e)) {
-            sl_progress_end(&pr);
-            r->nlights = m;
-            sl_frame_free_lights(r);
-            free(want);
-            sl_shadow_maps_free(&sm);
-            return -1;
-        }
         r->light_lobe[m] = sm.lobe[m];
         r->light_w[m] = sm.w[m];
-        r->nlights = m + 1;
-        sl_progress_update(&pr, (m + 1.0) / nmaps);
     }
+    r->nlights = nmaps;
     sl_shadow_maps_free(&sm);
-    sl_progress_end(&pr);
     free(want);
     sl_frame_why(r,
                  "%d deep opacity maps %dx%d for %d lobes (%d broad, split), K=%d, kappa %.3g (%s)",

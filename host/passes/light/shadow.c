@@ -220,6 +220,27 @@ static int lobe_setup(const sl_hair *h, const prep *p, const sl_shadow_opts *o, 
     return 0;
 }
 
+typedef struct setup_ctx {
+    const sl_hair *h;
+    const prep *p;
+    const sl_shadow_opts *o;
+    const double *dirs, *lambdas;
+    sl_shadow_batch *b;
+} setup_ctx;
+
+/* lobe_setup of lobes begin .. end - 1 (their directions are checked: it cannot fail). */
+static void setup_run(void *arg, size_t begin, size_t end, int worker) {
+    (void)worker;
+    const setup_ctx *c = arg;
+    for (size_t j = begin; j < end; j++) {
+        struct sl_shadow_group *g = &c->b->group[j / SL_SHADOW_BATCH];
+        const unsigned l = (unsigned)j - g->l0;
+        sl_err e;
+        (void)lobe_setup(c->h, c->p, c->o, c->dirs + 3 * j, c->lambdas[j], &c->b->map[j],
+                         g->views + l * SL_RASTER_VIEW, g->params + l * SL_DODM_PARAMS, &e);
+    }
+}
+
 static void group_release(struct sl_shadow_group *g) {
     free(g->views);
     free(g->params);
@@ -282,17 +303,110 @@ static void rjobs_run(rjob *job, int nt) {
     sl_parallel_parts(nt, (size_t)nt, rjob_part, job);
 }
 
+/* One worker's scratch for the lobe-parallel C path: a lobe's records, its layers (texel-major)
+ * and the window filter's plane. */
+typedef struct lscratch {
+    float *recs;
+    uint64_t *bins;
+    uint32_t *tmp;
+} lscratch;
+
+typedef struct lctx {
+    const sl_hair *h;
+    const prep *p;
+    sl_shadow_batch *b;
+    lscratch *sc;       /* one per worker */
+    double (*times)[3]; /* per lobe: project, raster, tables (s) */
+} lctx;
+
+/* Lobe l of the batch, whole, on one thread: projection, first depth, window, layers (texel-major:
+ * a sample's four corners touch one or two cache lines, not 4 K), cumulate into the planes, tables.
+ * The same functions as the segment-split path, so the same maps bit for bit. */
+static void lobe_run(void *arg, size_t begin, size_t end, int worker) {
+    const lctx *c = arg;
+    const prep *p = c->p;
+    sl_shadow_batch *b = c->b;
+    const lscratch *sc = &c->sc[worker];
+    const int w = b->map[0].view.w, hh = b->map[0].view.h;
+    const size_t plane = (size_t)w * hh;
+    const unsigned K = b->map[0].K;
+    for (size_t j = begin; j < end; j++) {
+        const struct sl_shadow_group *g = &b->group[j / SL_SHADOW_BATCH];
+        const unsigned l = (unsigned)j - g->l0;
+        uint32_t *z0 = g->z0 + l * plane;
+        uint64_t *sat = g->sat + (size_t)l * K * plane;
+        const double t0 = sl_now();
+        for (size_t s = 0; s < p->nseg; s++)
+            sl_raster_project_seg(c->h->pos, p->seg, p->hw, g->views + l * SL_RASTER_VIEW,
+                                  (sl_uint)p->nseg, 0, (sl_uint)s, (float)p->scale, sc->recs);
+        const double t1 = sl_now();
+        slc_raster_z0(sc->recs, p->nseg, w, hh, z0);
+        slc_raster_z0_dilate(z0, w, hh, p->z0_radius, sc->tmp);
+        slc_raster_layers_texel(sc->recs, p->nseg, w, hh, K, g->params[l * SL_DODM_PARAMS], z0,
+                                sc->bins);
+        const double t2 = sl_now();
+        slc_dodm_cumulate_texel(sc->bins, plane, K, sat);
+        slc_dodm_sat(sat, w, hh, K);
+        c->times[j][0] = t1 - t0;
+        c->times[j][1] = t2 - t1;
+        c->times[j][2] = sl_now() - t2;
+        size_t n = 0;
+        for (size_t s = 0; s < p->nseg; s++)
+            n += (size_t)sc->recs[s * SL_RASTER_REC + 9] * (size_t)sc->recs[s * SL_RASTER_REC + 10];
+        b->map[j].samples = n;
+    }
+}
+
+/* The C path with at least as many lobes as threads: every thread takes whole lobes (dynamic,
+ * one at a time), so both cores stay busy without a barrier, a merge or a thread start per map.
+ * Which thread builds a lobe changes nothing in it. Times are summed over the lobes (thread
+ * seconds, not wall). */
+static void build_c_lobes(const sl_hair *h, const prep *p, sl_shadow_batch *b, int nt) {
+    const size_t plane = (size_t)b->map[0].view.w * b->map[0].view.h;
+    const unsigned K = b->map[0].K;
+    lscratch sc[SL_SHADOW_MAX_THREADS];
+    for (int t = 0; t < nt; t++) {
+        sc[t].recs = sl_malloc((p->nseg ? p->nseg : 1) * SL_RASTER_REC * sizeof *sc[t].recs);
+        sc[t].bins = sl_malloc(K * plane * sizeof *sc[t].bins);
+        sc[t].tmp = sl_malloc(plane * sizeof *sc[t].tmp);
+    }
+    for (int gi = 0; gi < b->ngroups; gi++) {
+        struct sl_shadow_group *g = &b->group[gi];
+        g->z0 = sl_malloc(g->nl * plane * sizeof *g->z0);
+        g->sat = sl_malloc((size_t)g->nl * K * plane * sizeof *g->sat);
+    }
+    double(*times)[3] = sl_malloc((size_t)b->n * sizeof *times);
+    lctx c = {h, p, b, sc, times};
+    sl_parallel_for(nt, (size_t)b->n, 1, lobe_run, &c);
+    for (int j = 0; j < b->n; j++) {
+        b->project_s += times[j][0];
+        b->raster_s += times[j][1];
+        b->tables_s += times[j][2];
+    }
+    free(times);
+    for (int t = 0; t < nt; t++) {
+        free(sc[t].recs);
+        free(sc[t].bins);
+        free(sc[t].tmp);
+    }
+}
+
 /* The C twin of build_cl: the same records (sl_raster_project_seg), then the passes, one lobe
  * at a time (its records, 48 bytes a segment, stay in cache; a whole group's would not).
  * Threads split the segments into contiguous ranges; each rasterizes its range into its own
  * planes (thread 0 into the lobe's), which are then merged: first depth by minimum, layers by
  * 64-bit integer sums; both exact and order-independent, so the maps equal the one-thread maps
- * (and the kernel's) bit for bit whatever the thread count. */
+ * (and the kernel's) bit for bit whatever the thread count. With at least as many lobes as
+ * threads the threads take whole lobes instead (build_c_lobes): the same maps. */
 static void build_c(const sl_hair *h, const prep *p, sl_shadow_batch *b) {
     const int w = b->map[0].view.w, hh = b->map[0].view.h;
     const size_t plane = (size_t)w * hh;
     const unsigned K = b->map[0].K;
     const int nt = p->threads < 1 ? 1 : p->threads;
+    if (b->n >= nt) {
+        build_c_lobes(h, p, b, nt);
+        return;
+    }
     float *recs = sl_malloc((p->nseg ? p->nseg : 1) * SL_RASTER_REC * sizeof *recs);
     uint32_t *tmp = sl_malloc(plane * sizeof *tmp);
     /* planes of threads 1 .. nt - 1 */
@@ -379,14 +493,18 @@ int sl_shadow_build_batch(sl_device *dev, const sl_hair *h, int n, const double 
         g->nl = (unsigned)(n - (int)g->l0 < SL_SHADOW_BATCH ? n - (int)g->l0 : SL_SHADOW_BATCH);
         g->views = sl_malloc(g->nl * SL_RASTER_VIEW * sizeof *g->views);
         g->params = sl_malloc(g->nl * SL_DODM_PARAMS * sizeof *g->params);
-        for (unsigned l = 0; l < g->nl; l++)
-            if (lobe_setup(h, &p, o, dirs + 3 * (g->l0 + l), lambdas[g->l0 + l], &b->map[g->l0 + l],
-                           g->views + l * SL_RASTER_VIEW, g->params + l * SL_DODM_PARAMS, e)) {
-                prep_free(&p);
-                sl_shadow_batch_free(b);
-                return -1;
-            }
     }
+    for (int j = 0; j < n; j++) { /* the one way lobe_setup fails, found before the fan-out */
+        const double *d = dirs + 3 * j;
+        if (!(dot3(d, d) > 0) || !isfinite(dot3(d, d))) {
+            prep_free(&p);
+            sl_shadow_batch_free(b);
+            return sl_fail(e, "shadow: lobe direction is zero");
+        }
+    }
+    /* every lobe's setup reads every segment (its depth extent): in threads, one lobe a part */
+    setup_ctx sc = {h, &p, o, dirs, lambdas, b};
+    sl_parallel_for(n >= p.threads ? p.threads : 1, (size_t)n, 1, setup_run, &sc);
     if (dev->is_opencl) {
         int rc = slcl_shadow_build(dev->cl, h, &p, b, e);
         if (rc == 0) {
@@ -483,6 +601,30 @@ int sl_shadow_build(sl_device *dev, const sl_hair *h, const double dir[3], doubl
             rc = -1;
         }
     }
+    sl_shadow_batch_free(&b);
+    return rc;
+}
+
+int sl_shadow_build_maps(sl_device *dev, const sl_hair *h, int n, const double *dirs,
+                         const double *lambdas, const sl_shadow_opts *o, sl_dodm *maps, sl_err *e) {
+    sl_shadow_batch b;
+    memset(maps, 0, (size_t)(n > 0 ? n : 0) * sizeof *maps);
+    if (sl_shadow_build_batch(dev, h, n, dirs, lambdas, o, &b, e)) return -1;
+    int rc = 0;
+    for (int j = 0; j < n && !rc; j++) {
+        sl_dodm *m = &maps[j];
+        *m = b.map[j];
+        /* the batch's step times shared out evenly (they are totals over its maps) */
+        m->raster_s = (b.project_s + b.raster_s) / n;
+        m->tables_s = b.tables_s / n;
+        const size_t plane = (size_t)m->view.w * m->view.h;
+        m->z0bits = sl_malloc(plane * sizeof *m->z0bits);
+        m->sat = sl_malloc(m->K * plane * sizeof *m->sat);
+        if (sl_shadow_batch_read(&b, j, m->z0bits, m->sat, e)) rc = -1;
+    }
+    if (rc)
+        for (int j = 0; j < n; j++)
+            sl_dodm_free(&maps[j]);
     sl_shadow_batch_free(&b);
     return rc;
 }

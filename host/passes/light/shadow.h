@@ -116,6 +116,12 @@ int sl_shadow_strand_kept(uint32_t strand, uint32_t seed, double kappa);
 /* Light pass for one lobe (dir: unit vector toward the light, lambda: its bandwidth). */
 int sl_shadow_build(sl_device *dev, const sl_hair *h, const double dir[3], double lambda,
                     const sl_shadow_opts *o, sl_dodm *m, sl_err *e);
+/* The light pass of n lobes as n separate maps in host memory, each equal bit for bit to
+ * sl_shadow_build's for its lobe, built as one batch (sl_shadow_build_batch): the segments are
+ * prepared once, and on the C path every thread takes whole lobes. maps: n, each freed with
+ * sl_dodm_free (all zero after a failure). */
+int sl_shadow_build_maps(sl_device *dev, const sl_hair *h, int n, const double *dirs,
+                         const double *lambdas, const sl_shadow_opts *o, sl_dodm *maps, sl_err *e);
 /* T at n world points (xyz: 3 n doubles). */
 int sl_shadow_lookup(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz, double *T,
                      sl_err *e);

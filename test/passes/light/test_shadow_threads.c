@@ -7,6 +7,7 @@
 
 #include "march_fixture.h"
 
+#include "../cpu/dodm.h"
 #include "../cpu/raster.h"
 #include "../kernels/raster.h"
 #include "passes/volume/dual.h"
@@ -187,11 +188,64 @@ TEST(raster_fast_path_matches_plain_loops) {
     for (int t = 0; t < W * H; t++)
         deep += ba[(size_t)(K - 1) * W * H + t] > 0;
     CHECK(deep > 0); /* the last layer is reached too */
+    /* texel-major layers (the lobe-parallel light pass), K = 5 (the generic loop) and K = 4 (its
+     * own unrolled copy), cumulated into planes: the plain loop's cumulated planes bit for bit */
+    uint64_t *bt = malloc((size_t)K * W * H * 8), *bc = malloc((size_t)K * W * H * 8);
+    for (unsigned k = 4; k <= 5; k++) {
+        naive_layers(recs, N, W, H, k, 0.2f, za, bb);
+        slc_dodm_cumulate(bb, W * H, k);
+        slc_raster_layers_texel(recs, N, W, H, k, 0.2f, za, bt);
+        slc_dodm_cumulate_texel(bt, W * H, k, bc);
+        CHECK_MSG(!memcmp(bb, bc, (size_t)k * W * H * 8), "texel-major layers, K = %u", k);
+    }
+    free(bt);
+    free(bc);
     free(recs);
     free(za);
     free(zb);
     free(ba);
     free(bb);
+}
+
+/* sl_shadow_build_maps (the renderer's call: one batch, whole lobes per thread) gives every lobe
+ * the map sl_shadow_build gives it alone, bit for bit, with 1 and 2 threads. */
+TEST(shadow_build_maps_equal_single_builds) {
+    sl_device dev;
+    sl_err e = {{0}};
+    CHECK(sl_device_open("c", &dev, &e) == 0);
+    sl_hair h;
+    sl_hair_procedural p = {SL_PROC_WAVY, 150, 9, 4};
+    CHECK(sl_hair_generate(&p, &h, &e) == 0);
+    enum { NL = 5, S = 48 };
+    double dirs[3 * NL] = {0, 1, 0, 0.6, -0.48, 0.64, -0.8, 0, 0.6, 0, 0, -1, 0.36, 0.48, 0.8};
+    double lam[NL] = {0.1, 0.3, 0.9, 0.2, 0.05};
+    sl_shadow_opts o;
+    sl_shadow_opts_default(&o);
+    o.size = S;
+    const size_t plane = S * S;
+    sl_dodm one[NL], many[NL];
+    o.threads = 1;
+    for (int j = 0; j < NL; j++)
+        CHECK(sl_shadow_build(&dev, &h, dirs + 3 * j, lam[j], &o, &one[j], &e) == 0);
+    for (int nt = 1; nt <= 2; nt++) {
+        o.threads = nt;
+        CHECK(sl_shadow_build_maps(&dev, &h, NL, dirs, lam, &o, many, &e) == 0);
+        for (int j = 0; j < NL; j++) {
+            CHECK(!memcmp(one[j].z0bits, many[j].z0bits, plane * sizeof *one[j].z0bits));
+            CHECK(!memcmp(one[j].sat, many[j].sat, plane * o.layers * sizeof *one[j].sat));
+            CHECK(one[j].d == many[j].d && one[j].rfac == many[j].rfac);
+            CHECK(one[j].samples == many[j].samples);
+            CHECK(many[j].sat[(size_t)o.layers * plane - 1] > 0); /* not empty */
+            sl_dodm_free(&many[j]);
+        }
+    }
+    double zero[3 * NL] = {0};
+    CHECK(sl_shadow_build_maps(&dev, &h, NL, zero, lam, &o, many, &e) != 0); /* a bad lobe */
+    CHECK(strstr(e.msg, "direction") != NULL);
+    for (int j = 0; j < NL; j++)
+        sl_dodm_free(&one[j]);
+    sl_hair_free(&h);
+    sl_device_close(&dev);
 }
 
 /* The fixture's march on the C path: both lobes, 4 paths a vertex, `threads` C threads (0: the
