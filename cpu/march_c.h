@@ -14,9 +14,10 @@ void slc_march(const float *vox, const int n[3], const float lo[3], float h, con
                const float *verts, const uint32_t *vert_ids, size_t nverts, const float *dirs,
                size_t nlobes, int paths, uint32_t seed, float *outT, float *outS);
 
-/* The same outputs computed by nthreads threads (contiguous ranges of vertices per lobe; every
- * output depends only on its own (vertex, lobe) stream, so the result is identical for any
- * count). slc_march is this with one thread. Needs n voxels' floats of scratch. */
+/* The same outputs computed by nthreads threads (lobe by lobe, the threads take chunks of voxels
+ * and then of vertices from a shared counter; every output depends only on its own (vertex, lobe)
+ * stream, so the result is identical for any count and any sharing). slc_march is this with one
+ * thread. Needs 8 bytes of scratch per voxel. */
 void slc_march_threads(const float *vox, const int n[3], const float lo[3], float h,
                        const float *tabs, const float *verts, const uint32_t *vert_ids,
                        size_t nverts, const float *dirs, size_t nlobes, int paths, uint32_t seed,

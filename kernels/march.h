@@ -36,14 +36,20 @@ SL_INLINE sl_uint sl_march_hash(sl_uint x) {
     return x;
 }
 
-/* Uniform in [0, 1) (24 bits) for the counter (seed, a, b, c, d). */
-SL_INLINE float sl_march_rand(sl_uint seed, sl_uint a, sl_uint b, sl_uint c, sl_uint d) {
+/* The random number of the counter (seed, a, b, c, d) is uniform in [0, 1) (24 bits):
+ *     sl_march_rand_at(sl_march_rand_key(seed, a, b, c), d)
+ * a chain of five hashes, of which the key holds the first four: they depend on (seed, a, b, c)
+ * only, so a path (a vertex, b lobe, c path) computes them once, not at every step and event. */
+SL_INLINE sl_uint sl_march_rand_key(sl_uint seed, sl_uint a, sl_uint b, sl_uint c) {
     sl_uint x = sl_march_hash(seed ^ 0x9e3779b9u);
     x = sl_march_hash(x ^ a);
     x = sl_march_hash(x ^ (b * 0x85ebca6bu));
-    x = sl_march_hash(x ^ (c * 0xc2b2ae35u));
-    x = sl_march_hash(x ^ d);
-    return (float)(x >> 8) * (1.0f / 16777216.0f);
+    return sl_march_hash(x ^ (c * 0xc2b2ae35u));
+}
+
+/* The last link: the number of counter d under key (sl_march_rand_key). */
+SL_INLINE float sl_march_rand_at(sl_uint key, sl_uint d) {
+    return (float)(sl_march_hash(key ^ d) >> 8) * (1.0f / 16777216.0f);
 }
 
 /* Distance from x along unit w to the exit of the box [lo, lo + n h] (0 if outside). */
@@ -56,6 +62,13 @@ SL_INLINE float sl_march_exit(const float *x, const float *w, int nx, int ny, in
         if (w[a] < 0.0f) t = sl_minf(t, (lo[a] - x[a]) / w[a]);
     }
     return t < SL_FLT_MAX ? sl_maxf(t, 0.0f) : 0.0f;
+}
+
+/* Row `row` of one channel's dual table at the interval i and fraction t sl_dual_locate found:
+ * sl_dual_lookup's interpolation, term for term (so the same float). */
+SL_INLINE float sl_march_dual_at(SL_GLOBAL const float *tab, int row, int i, float t) {
+    SL_GLOBAL const float *f = tab + row * SL_DUAL_N;
+    return f[i] + t * (f[i + 1] - f[i]);
 }
 
 /* Probability of an event in one step of length delta through voxel vx (density > 0) toward w. */
@@ -73,7 +86,8 @@ SL_INLINE int sl_march_path(SL_GLOBAL const float *vox, int nx, int ny, int nz, 
                             SL_GLOBAL const float *ptab, float *T, float *s2) {
     const float delta = 0.5f * h, inv_h = 1.0f / h;
     const float tex = sl_march_exit(x, w, nx, ny, nz, lo, h);
-    const float j = sl_march_rand(seed, vert, lobe, path, 0xffffffffu);
+    const sl_uint key = sl_march_rand_key(seed, vert, lobe, path);
+    const float j = sl_march_rand_at(key, 0xffffffffu);
     int events = 0;
     for (int c = 0; c < SL_MARCH_CH; c++) {
         T[c] = 1.0f;
@@ -96,7 +110,7 @@ SL_INLINE int sl_march_path(SL_GLOBAL const float *vox, int nx, int ny, int nz, 
             if (!(vx[SL_VOX_SIGMA] > 0.0f)) continue;
             P = sl_march_event_p(vx, w, delta);
         }
-        if (!(sl_march_rand(seed, vert, lobe, path, 4u * k) < P)) continue;
+        if (!(sl_march_rand_at(key, 4u * k) < P)) continue;
         /* The event's fiber: dir + g (n1 e1 + n2 e2), g = dev / sqrt(2), n Gaussian. */
         float d[3] = {vx[SL_VOX_DIRX], vx[SL_VOX_DIRY], vx[SL_VOX_DIRZ]};
         float t[3] = {d[0], d[1], d[2]};
@@ -111,8 +125,8 @@ SL_INLINE int sl_march_path(SL_GLOBAL const float *vox, int nx, int ny, int nz, 
                 e1[q] /= n1;
             float e2[3] = {d[1] * e1[2] - d[2] * e1[1], d[2] * e1[0] - d[0] * e1[2],
                            d[0] * e1[1] - d[1] * e1[0]};
-            float u1 = sl_maxf(sl_march_rand(seed, vert, lobe, path, 4u * k + 1u), 1e-7f);
-            float u2 = sl_march_rand(seed, vert, lobe, path, 4u * k + 2u);
+            float u1 = sl_maxf(sl_march_rand_at(key, 4u * k + 1u), 1e-7f);
+            float u2 = sl_march_rand_at(key, 4u * k + 2u);
             float r = sqrt(-2.0f * log(u1)) * dev * 0.70710678f;
             float g1 = r * cos(2.0f * SL_PI_F * u2), g2 = r * sin(2.0f * SL_PI_F * u2);
             for (int q = 0; q < 3; q++)
@@ -121,10 +135,15 @@ SL_INLINE int sl_march_path(SL_GLOBAL const float *vox, int nx, int ny, int nz, 
         float tn = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
         float cw = tn > 0.0f ? fabs(w[0] * t[0] + w[1] * t[1] + w[2] * t[2]) / tn : 0.0f;
         float theta = asin(sl_minf(cw, 1.0f));
+        /* Every row of every channel's table has the same nodes: the interval and fraction of
+         * theta once for the event (sl_dual_lookup would find them again for each of the six
+         * lookups), then the same interpolation as sl_dual_lookup's. */
+        float ft;
+        const int it = sl_dual_locate(theta, &ft);
         for (int c = 0; c < SL_MARCH_CH; c++) {
             SL_GLOBAL const float *tab = tabs + (size_t)c * SL_DUAL_TABLE_FLOATS;
-            float b = sl_dual_lookup(tab, SL_DUAL_BETA_F, theta);
-            T[c] *= sl_dual_lookup(tab, SL_DUAL_AF, theta);
+            float b = sl_march_dual_at(tab, SL_DUAL_BETA_F, it, ft);
+            T[c] *= sl_march_dual_at(tab, SL_DUAL_AF, it, ft);
             s2[c] += b * b;
         }
         events++;

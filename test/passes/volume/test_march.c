@@ -1,11 +1,13 @@
-/* test_march.c: the shadow-path march (kernels/march.h, cpu/march_c.c, host/passes/volume/march_cl.c,
- * host/passes/volume/volume.c) and its fiber-exact reference (cpu/reference/march_ref.c), on slabs of parallel
- * fibers where T_f and sigma_f have closed forms (docs/volume.md), and kernel vs C twin. */
+/* test_march.c: the shadow-path march (kernels/march.h, cpu/march_c.c,
+ * host/passes/volume/march_cl.c, host/passes/volume/volume.c) and its fiber-exact reference
+ * (cpu/reference/march_ref.c), on slabs of parallel fibers where T_f and sigma_f have closed forms
+ * (docs/volume.md), and kernel vs C twin. */
 #include "test.h"
 
 #include "cl_fixture.h"
 #include "march_fixture.h"
 
+#include "base/parallel.h"
 #include "passes/volume/dual.h"
 #include "dual_ref.h"
 #include "march.h"
@@ -221,4 +223,87 @@ TEST(march_opencl_vs_c) {
     sl_ftex_free(&b);
     march_wavy_free(&w);
     sl_device_close(&dev);
+}
+
+/* The per-path and per-event constants of sl_march_path (session 7) give the numbers of the
+ * direct forms: the random key (four of the five hashes, once per path) then the last hash
+ * equals the five-hash chain written out here (the counter of docs/volume.md), and one
+ * sl_dual_locate per event with sl_march_dual_at equals sl_dual_lookup of each row and channel,
+ * bit for bit, over a sweep of theta that includes the table's ends and nodes. */
+static sl_uint lowbias32(sl_uint x) {
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+TEST(march_event_constants_bit_identical) {
+    for (sl_uint i = 0; i < 2000; i++) {
+        sl_uint seed = i * 7u + 1u, a = i * 2654435761u, b = i % 70u, c = i % 16u;
+        sl_uint d = i == 0 ? 0xffffffffu : 4u * i + (i % 3u);
+        sl_uint x = lowbias32(seed ^ 0x9e3779b9u);
+        x = lowbias32(x ^ a);
+        x = lowbias32(x ^ (b * 0x85ebca6bu));
+        x = lowbias32(x ^ (c * 0xc2b2ae35u));
+        x = lowbias32(x ^ d);
+        float direct = (float)(x >> 8) * (1.0f / 16777216.0f);
+        float viakey = sl_march_rand_at(sl_march_rand_key(seed, a, b, c), d);
+        CHECK_MSG(direct == viakey, "counter %u: %.9g vs %.9g", i, direct, viakey);
+    }
+    sl_material m;
+    sl_material_default(&m);
+    m.sigma_a_rgb = 1;
+    m.sigma_a[0] = 0.2, m.sigma_a[1] = 0.5, m.sigma_a[2] = 1.1;
+    sl_err e = {{0}};
+    sl_dual_tables dt;
+    CHECK(sl_dual_tables_build(&m, &dt, &e) == 0);
+    const int rows[2] = {SL_DUAL_AF, SL_DUAL_BETA_F};
+    for (int q = 0; q <= 4000; q++) {
+        float theta = q < 4000 ? 1.6f * (float)q / 4000.0f : SL_DUAL_HALF_PI;
+        if (q % 500 == 7) theta = sl_dual_node(q / 40); /* exactly on a node */
+        float t;
+        int it = sl_dual_locate(theta, &t);
+        for (int ch = 0; ch < SL_MARCH_CH; ch++)
+            for (int r = 0; r < 2; r++) {
+                float once = sl_march_dual_at(dt.tab[ch], rows[r], it, t);
+                float each = sl_dual_lookup(dt.tab[ch], rows[r], theta);
+                CHECK_MSG(once == each, "theta %.9g ch %d row %d: %.9g vs %.9g", theta, ch, rows[r],
+                          once, each);
+            }
+    }
+}
+
+/* The dynamic sharing of the C march (threads take chunks of voxels and vertices from a shared
+ * counter): 3 and 16 threads, and 4 threads of which only one can start (the rest of the work
+ * falls to the calling thread, sl_parallel_limit_spawns), give the one-thread textures bit for
+ * bit, on an [r,g,b] material so that every channel is checked. */
+TEST(march_dynamic_threads_identical) {
+    march_wavy w;
+    const double sa[3] = {0.2, 0.5, 1.1};
+    march_wavy_setup(&w, sa);
+    sl_err e = {{0}};
+    sl_march_opts o;
+    sl_march_opts_default(&o);
+    o.paths = 4;
+    o.threads = 1;
+    sl_ftex a;
+    CHECK(sl_march_build(NULL, &w.g, &w.dt, 2, w.dirs, &o, &a, &e) == 0);
+    size_t nv = (size_t)a.m[0] * a.m[1] * a.m[2] * SL_MARCH_CH * 2;
+    CHECK(a.active > 8 * 2); /* more than one chunk of vertices per lobe */
+    const int counts[3] = {3, 16, 4}, spawn_limit[3] = {-1, -1, 1};
+    for (int c = 0; c < 3; c++) {
+        sl_parallel_limit_spawns(spawn_limit[c]);
+        o.threads = counts[c];
+        sl_ftex b;
+        CHECK(sl_march_build(NULL, &w.g, &w.dt, 2, w.dirs, &o, &b, &e) == 0);
+        sl_parallel_limit_spawns(-1);
+        CHECK_MSG(!memcmp(a.T, b.T, nv * sizeof *a.T), "%d threads: T_f differs", counts[c]);
+        CHECK_MSG(!memcmp(a.sigma, b.sigma, nv * sizeof *a.sigma), "%d threads: sigma_f differs",
+                  counts[c]);
+        sl_ftex_free(&b);
+    }
+    sl_ftex_free(&a);
+    march_wavy_free(&w);
 }
