@@ -105,6 +105,7 @@ static int check_report_dir(const char *dir, const char *what, sl_err *e) {
 /* Removes a report directory: the files its manifest lists, the manifest, then the directory.
  * Anything else stays (and so does the directory, with a note). */
 static void remove_report_dir(const char *dir, int noisy) {
+    if (!dir) return; /* callers pass a path; -O1's inlining cannot see that (format-truncation) */
     manifest m;
     manifest_read(dir, &m);
     DIR *d = opendir(dir);
