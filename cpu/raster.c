@@ -88,7 +88,7 @@ static inline void z0_min(uint32_t *p, uint32_t b, float share) {
  * same texels get the same depths; only the iterator's state is kept in registers instead of a
  * struct, and the four corners are written directly (no bounds test is needed). Why: the light
  * pass walks ~2.7 M samples per 256^2 map on the goal scene, and the generic walk cost ~16 ns a
- * sample in this pass (docs/performance.md, "Light pass (session 7)"). */
+ * sample in this pass (docs/performance.md, "Light pass and march (session 7)"). */
 static void z0_inside(const float *rec, int w, uint32_t *z0bits) {
     const float m = rec[8];
     const sl_uint na = (sl_uint)rec[9], nw = (sl_uint)rec[10];
