@@ -297,7 +297,7 @@ else
     # same float math as c from the same header: the tolerances of the c checks above
     $PY "$D/fr.py" "$D/fr.cl" 2e-6 2>/dev/null && pass eval_opencl_scatter \
         || fail eval_opencl_scatter "$($PY "$D/fr.py" "$D/fr.cl" 2e-6 2>&1 | tail -1)"
-    ev "$D/mp.csv" deon-mp --backend opencl --device "$SL_CL_DEVICE" > "$D/mp.cl" 2>&1
+    ev "$D/mp.csv" deon-mp --backend opencl --device "$SL_CL_DEVICE" > "$D/mp.cl" 2>"$D/mp.cl.stderr"
     $PY "$D/mp.py" "$D/mp.cl" 5e-7 1e-6 -80 2>"$D/mp.cl.err" && pass eval_opencl_deon_mp \
         || fail eval_opencl_deon_mp "$(tail -1 "$D/mp.cl.err")"
     ev "$D/furn.csv" furnace --backend opencl --device "$SL_CL_DEVICE" --material "$D/furn.json" > "$D/furn.cl" 2>&1
