@@ -1,6 +1,5 @@
 /* common.c: see common.h. */
 #include "base/common.h"
-#include "base/output_set.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -324,9 +323,15 @@ int sl_atomic_open(sl_atomic_file *af, const char *path, sl_err *e) {
 }
 
 int sl_atomic_commit(sl_atomic_file *af, sl_err *e) {
-    /* flushed, fsynced and closed first (output_set.c): a crash must not leave the name with
-     * no data */
-    if (sl_atomic_finish(af, e)) return -1;
+    int bad = fflush(af->fp) != 0 || ferror(af->fp);
+    /* on disk before the rename (output_set.h): a crash must not leave the name with no data */
+    if (!bad && fsync(fileno(af->fp)) != 0 && errno != EINVAL) bad = 1;
+    if (fclose(af->fp) != 0) bad = 1;
+    af->fp = NULL;
+    if (bad) {
+        remove(af->tmp_path);
+        return sl_fail(e, "%s: write error", af->path);
+    }
     if (rename(af->tmp_path, af->path) != 0) {
         int err = errno;
         remove(af->tmp_path);
