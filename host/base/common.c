@@ -322,16 +322,23 @@ int sl_atomic_open(sl_atomic_file *af, const char *path, sl_err *e) {
     return 0;
 }
 
-int sl_atomic_commit(sl_atomic_file *af, sl_err *e) {
+int sl_atomic_finish(sl_atomic_file *af, sl_err *e) {
     int bad = fflush(af->fp) != 0 || ferror(af->fp);
-    /* on disk before the rename (output_set.h): a crash must not leave the name with no data */
+    /* on disk before the rename: else a crash can leave the new name with no data (ext4's
+     * delayed allocation) while the old file is gone */
     if (!bad && fsync(fileno(af->fp)) != 0 && errno != EINVAL) bad = 1;
     if (fclose(af->fp) != 0) bad = 1;
     af->fp = NULL;
     if (bad) {
         remove(af->tmp_path);
+        af->tmp_path[0] = 0;
         return sl_fail(e, "%s: write error", af->path);
     }
+    return 0;
+}
+
+int sl_atomic_commit(sl_atomic_file *af, sl_err *e) {
+    if (sl_atomic_finish(af, e)) return -1;
     if (rename(af->tmp_path, af->path) != 0) {
         int err = errno;
         remove(af->tmp_path);

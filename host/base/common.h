@@ -57,7 +57,10 @@ typedef struct sl_atomic_file {
     FILE *fp; /* open on the temporary file */
 } sl_atomic_file;
 int sl_atomic_open(sl_atomic_file *af, const char *path, sl_err *e);
-int sl_atomic_commit(sl_atomic_file *af, sl_err *e); /* closes and renames */
+/* Flushes and fsyncs the temporary of af and closes it, leaving it under its temporary name
+ * (af->tmp_path) for sl_output_set_commit; on a write error the temporary is removed and e set. */
+int sl_atomic_finish(sl_atomic_file *af, sl_err *e);
+int sl_atomic_commit(sl_atomic_file *af, sl_err *e); /* sl_atomic_finish, then renames */
 void sl_atomic_abort(sl_atomic_file *af);            /* closes and removes */
 /* For writers that open files themselves (OpenEXRCore): a unique temporary name beside path. */
 void sl_temp_name(const char *path, char *tmp, size_t tmp_size);

@@ -71,21 +71,6 @@ void sl_signals_release(sl_signal_hold *h) {
     sigprocmask(SIG_SETMASK, &h->old, NULL);
 }
 
-int sl_atomic_finish(sl_atomic_file *af, sl_err *e) {
-    int bad = fflush(af->fp) != 0 || ferror(af->fp);
-    /* on disk before the rename: else a crash can leave the new name with no data (ext4's
-     * delayed allocation) while the old file is gone */
-    if (!bad && fsync(fileno(af->fp)) != 0 && errno != EINVAL) bad = 1;
-    if (fclose(af->fp) != 0) bad = 1;
-    af->fp = NULL;
-    if (bad) {
-        remove(af->tmp_path);
-        af->tmp_path[0] = 0;
-        return sl_fail(e, "%s: write error", af->path);
-    }
-    return 0;
-}
-
 int sl_output_set_commit(sl_atomic_file *const *set, int n, sl_err *e) {
     sl_signal_hold hold;
     sl_signals_hold(&hold);

@@ -13,10 +13,6 @@
 
 #include <signal.h>
 
-/* Flushes and fsyncs the temporary of af and closes it, leaving it under its temporary name
- * (af->tmp_path) for sl_output_set_commit; on a write error the temporary is removed and e set. */
-int sl_atomic_finish(sl_atomic_file *af, sl_err *e);
-
 /* Renames n finished temporaries (sl_atomic_finish, or a writer's own fsynced temporary) over
  * their targets, back to back, with SIGINT/SIGTERM/SIGHUP blocked until the last one, then
  * fsyncs their directories. On a failure the temporaries not yet renamed are removed and e names
