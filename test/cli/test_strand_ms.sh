@@ -80,3 +80,31 @@ if [ -n "$h_frame" ] && [ -n "$h_path" ] &&
    awk -v a="$h_frame" -v b="$h_path" 'BEGIN {d = a - b; if (d < 0) d = -d; exit !(d <= 3)}'; then
     pass strand_ms_hue_matches_path_tracer
 else fail strand_ms_hue_matches_path_tracer "frame hue '$h_frame' path tracer '$h_path'"; fi
+
+# The issue's own check (issue 22): straight.hair (../shared, blond in the file: 1.0, 0.925,
+# 0.569, hue 49.6 deg) with "colors" under the white map. Measured at 96 x 72: frame 58.8 deg,
+# path tracer (8 spp) 58.6 deg; before session 8 the frame was 21.8 deg (MS in the material's
+# brown). The frame must match the path tracer within 3 deg and the file within 10 deg (the
+# rest is physical: Chiang's inverse is fitted to hair deep enough to scatter many times, and
+# 10K straight strands are not; both renders are paler than the file's colour).
+if have_shared && [ -f "$SHARED/hair/straight.hair" ]; then
+    cat > "$D/straight.json" <<JSON
+{
+  "hair": {"file": "$(cd "$SHARED" && pwd)/hair/straight.hair"},
+  "material": {"model": "chiang", "melanin": 0.3, "roughness": 0.3, "radial_roughness": 0.3, "strand_sigma_a": "colors"},
+  "environment": {"file": "white.hdr"},
+  "camera": {"fov_deg": 30},
+  "image": {"width": 96, "height": 72},
+  "quality": {"lobes": 8, "multiple_scattering": "on"}
+}
+JSON
+    "$SL" render "$D/straight.json" --exr "$D/straight.exr" --device c --method fast 2>/dev/null
+    "$SL" reference "$D/straight.json" --path --spp 8 -o "$D/straight_path.exr" > /dev/null 2>&1
+    h_frame=$(hue_of "$D/straight.exr"); h_path=$(hue_of "$D/straight_path.exr")
+    if [ -n "$h_frame" ] && [ -n "$h_path" ] &&
+       awk -v a="$h_frame" -v b="$h_path" 'BEGIN {d = a - b; if (d < 0) d = -d; e = a - 49.6; if (e < 0) e = -e; exit !(d <= 3 && e <= 10)}'; then
+        pass strand_ms_straight_hue
+    else fail strand_ms_straight_hue "frame hue '$h_frame', path tracer '$h_path', file 49.6"; fi
+else
+    skip strand_ms_straight_hue "../shared/data/hair/straight.hair absent"
+fi
