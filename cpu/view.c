@@ -57,10 +57,15 @@ typedef struct share {
 } share;
 
 /* Stable sort by pixel (equal pixels keep their generation order, so the per-pixel double sums
- * below add in one fixed order on every platform; glibc's qsort happened to be a stable merge
- * sort, this makes it explicit). Insertion sort: a segment's shares come along the segment, so
- * they are nearly sorted and short (~4 per sample); it costs a fraction of qsort's calls. */
-static void share_sort(share *s, size_t k) {
+ * below add in one fixed order on every platform). A stable sort's result is unique, so any
+ * stable algorithm gives the same bits. Insertion sort on runs of RUN shares (a segment's
+ * shares come along it, nearly sorted within a run), then bottom-up merges through tmp
+ * (k entries): O(k log k) whatever the segment's direction. The insertion sort alone was
+ * O(k^2) for segments drawn toward lower pixel indices (their shares arrive in descending
+ * order), and k grows with the segment's length in pixels: the view pass's cost per fragment
+ * grew with resolution (issue 20, slope 1.41). */
+#define RUN 16
+static void insertion_sort(share *s, size_t k) {
     for (size_t i = 1; i < k; i++) {
         share x = s[i];
         size_t j = i;
@@ -68,6 +73,33 @@ static void share_sort(share *s, size_t k) {
             s[j] = s[j - 1];
         s[j] = x;
     }
+}
+
+/* Sorts s (k entries) stably by pixel; tmp: k entries of scratch. */
+static void share_sort(share *s, size_t k, share *tmp) {
+    for (size_t a = 0; a < k; a += RUN)
+        insertion_sort(s + a, k - a < RUN ? k - a : RUN);
+    if (k <= RUN) return;
+    share *src = s, *dst = tmp;
+    for (size_t wd = RUN; wd < k; wd *= 2) {
+        for (size_t a = 0; a < k; a += 2 * wd) {
+            size_t m = a + wd < k ? a + wd : k, b = a + 2 * wd < k ? a + 2 * wd : k;
+            size_t i = a, j = m, o = a;
+            if (m == b || src[m - 1].pix <= src[m].pix) { /* already in order: copy */
+                memcpy(dst + a, src + a, (b - a) * sizeof *src);
+                continue;
+            }
+            while (i < m && j < b) /* ties from the left run first: stable */
+                dst[o++] = src[j].pix < src[i].pix ? src[j++] : src[i++];
+            while (i < m)
+                dst[o++] = src[i++];
+            while (j < b)
+                dst[o++] = src[j++];
+        }
+        share *t = src;
+        src = dst, dst = t;
+    }
+    if (src != s) memcpy(s, src, k * sizeof *s);
 }
 
 void slc_view_segment(const double p0[3], const double p1[3], double hw, float a0, float a1,
@@ -91,8 +123,9 @@ void slc_view_segment(const double p0[3], const double p1[3], double hw, float a
         return;
     }
     size_t ns = (size_t)na * nw * 4, k = 0;
-    share stack[512];
-    share *s = ns <= 512 ? stack : sl_malloc(ns * sizeof *s);
+    share stack[2 * 512];
+    share *s = ns <= 512 ? stack : sl_malloc(2 * ns * sizeof *s);
+    share *scratch = s + (ns <= 512 ? 512 : ns);
     sl_splat it;
     sl_splat_begin(&it, rec, w, h, 1);
     sl_int tx, ty;
@@ -104,7 +137,7 @@ void slc_view_segment(const double p0[3], const double p1[3], double hw, float a
         if (it.i != ti) ti = it.i, ts = ((float)it.i + 0.5f) / (float)na;
         s[k++] = (share){(uint32_t)ty * (uint32_t)w + (uint32_t)tx, sh, sh * ts, sh * z};
     }
-    share_sort(s, k);
+    share_sort(s, k, scratch);
     /* the previous segment's pixels (sorted by pixel, as the shares are): a merge join */
     struct slc_run_px *prev = out->run;
     const size_t nprev = out->run_n;
