@@ -3,8 +3,9 @@
 # reproduces the file's colour (straight.hair's blond, the ponytail .tfxproj's hairColor), errors
 # in referenced files name the scene and the key, tfx_follow on a .tfxproj with per_guide 0,
 # outputs checked before the work (a read-only directory, a new directory at /, --exr without a
-# PNG), progress on a terminal (render: frame, pass, ETA; fit; the table build) and none off a
-# terminal or under --quiet, and --explain rows wrapped at the terminal's width.
+# PNG), duplicate keys in a lobes file, progress on a terminal (render: frame, pass, ETA; fit;
+# sample; the table build) and none off a terminal or under --quiet, and --explain rows wrapped
+# at the terminal's width.
 # A terminal is simulated with script(1) (bsdutils).
 . test/cli/lib.sh
 D="$TMP/usability"
@@ -68,6 +69,12 @@ printf '{"hair": {"file": "miss.tfxproj"}, "environment": {"file": "white.hdr"},
 expect_error ref_missing_tfx_in_tfxproj "misstfx.json: hair.file: $D/nothere.tfx: No such file or directory" \
     "$SL" render "$D/misstfx.json" --device c -o "$D/x2.exr"
 
+# ---- duplicate keys in a file the scene names (a lobes file) are an error naming the key path
+printf '{"lobes": [{"dir": [0, 1, 0], "lambda": 0.5, "lambda": 0.7, "rgb": [1, 1, 1]}]}\n' > "$D/dup.lobes.json"
+printf '{"hair": {"procedural": {"strands": 20, "points": 6}}, "environment": {"lobes": "dup.lobes.json"}, "image": {"width": 16, "height": 12}}\n' > "$D/dup.json"
+expect_error dup_key_in_lobes_file "dup.json: environment.lobes: $D/dup.lobes.json: lobes[0].lambda: duplicate key" \
+    "$SL" render "$D/dup.json" --device c -o "$D/x4.exr"
+
 # ---- tfx_follow with per_guide 0 on a .tfxproj: refused naming the key (was accepted silently)
 if have_shared && [ -f "$SHARED/hair/tressfx3/ponytail/ponytail.tfxproj" ]; then
     printf '{"hair": {"file": "%s", "tfx_follow": {"per_guide": 0}}, "environment": {"file": "white.hdr"}, "image": {"width": 16, "height": 12}}\n' \
@@ -116,6 +123,9 @@ if command -v script >/dev/null 2>&1; then
     out=$(on_tty "$SL fit data/env/city_256.hdr --lobes 12 -o $D/f.json")
     if printf '%s\n' "$out" | grep -q '^fit \[[#.]*\] *[0-9.]*% [0-9.]*s eta [0-9.]*s'; then pass progress_fit_tty
     else fail progress_fit_tty "$(printf '%s\n' "$out" | tail -2)"; fi
+    out=$(on_tty "$SL sample data/env/city_256.hdr --lights 16 -o $D/l.json")
+    if printf '%s\n' "$out" | grep -q '^sample: 16 lights and their errors'; then pass progress_sample_tty
+    else fail progress_sample_tty "$(printf '%s\n' "$out" | tail -2)"; fi
     printf '{"hair": {"procedural": {"strands": 60, "points": 6}}, "material": {"eta": 1.61}, "environment": {"file": "white.hdr"}, "image": {"width": 16, "height": 12}, "quality": {"multiple_scattering": "off"}}\n' > "$D/t.json"
     out=$(on_tty "$SL render $D/t.json --device c --method table -o $D/t.exr")
     if printf '%s\n' "$out" | grep -q '^srbf table \[[#.]*\] *[0-9.]*% [0-9.]*s eta [0-9.]*s'; then pass progress_table_tty
