@@ -2,17 +2,18 @@
  * or skips them (docs/frame.md).
  *
  *   view pass   camera projection -> fragments with coverage AA (shared rasterizer) -> K-buffer
- *   light pass  per lobe: deep opacity map (host/passes/light/shadow.h), cached while geometry,
- * lobes and shadow quality are unchanged (a camera orbit reuses every one) dual dual-scattering
- * material tables (host/passes/volume/dual.h), cached per material srbf        the SRBF method
- * (auto: Ren 2010's precomputed table, built / loaded / kept, or the fast closed form;
- * docs/frame.md "SRBF method", sl_renderer_set_editing) shade       per shading point (fragment, or
- * strand vertex / every k-th vertex, interpolated): sum over lobes of SRBF response
- * (kernels/srbf_fast.h, srbf_xu.h or the table of host/passes/shade/srbf_ren.h; C twins or OpenCL
- * kernels) x effective transmittance T_j, plus multiple scattering (voxel grid + shadow-path march,
- * host/passes/volume/volume.h, and the response per fragment and lobe,
- * host/passes/volume/volume_ms.h) resolve     front-to-back compositing of each pixel's K entries
- * into beauty + AOVs (host/passes/resolve/resolve.h)
+ *   light pass  per lobe: deep opacity map (host/passes/light/shadow.h), cached while geometry, lobes and
+ *               shadow quality are unchanged (a camera orbit reuses every one)
+ *   dual        dual-scattering material tables (host/passes/volume/dual.h), cached per material
+ *   srbf        the SRBF method (auto: Ren 2010's precomputed table, built / loaded / kept, or
+ *               the fast closed form; docs/frame.md "SRBF method", sl_renderer_set_editing)
+ *   shade       per shading point (fragment, or strand vertex / every k-th vertex, interpolated):
+ *               sum over lobes of SRBF response (kernels/srbf_fast.h, srbf_xu.h or the table
+ *               of host/passes/shade/srbf_ren.h; C twins or OpenCL kernels) x effective transmittance T_j,
+ *               plus multiple scattering (voxel grid + shadow-path march, host/passes/volume/volume.h, and
+ *               the response per fragment and lobe, host/passes/volume/volume_ms.h)
+ *   resolve     front-to-back compositing of each pixel's K entries into beauty + AOVs
+ *               (host/passes/resolve/resolve.h)
  *
  *   sl_renderer *r = sl_renderer_create(&dev, NULL);
  *   sl_fbuf fb = {0};
@@ -46,12 +47,11 @@
 
 /* Planner thresholds (docs/frame.md): SL_FRAME_LOBE_THRESHOLD, SL_FRAME_POINT_THRESHOLD,
  * SL_FRAME_MS_AUTO_THRESHOLD and SL_FRAME_AUTO_FRAGMENT_PX are the defaults of the scene keys
- * quality.lobe_threshold, point_threshold, ms_auto_threshold, auto_fragment_px
- * (host/scene/scene.h). */
+ * quality.lobe_threshold, point_threshold, ms_auto_threshold, auto_fragment_px (host/scene/scene.h). */
 
 /* SRBF response methods of the shading pass: SL_SRBF_METHOD_XU (0) and _FAST (1) of
- * cpu/srbf_c.h, plus Ren 2010's precomputed table (host/passes/shade/srbf_ren.h) and the planner's
- * choice between table and fast (docs/frame.md, "SRBF method"). */
+ * cpu/srbf_c.h, plus Ren 2010's precomputed table (host/passes/shade/srbf_ren.h) and the planner's choice
+ * between table and fast (docs/frame.md, "SRBF method"). */
 #define SL_RENDER_SRBF_TABLE 2
 #define SL_RENDER_SRBF_AUTO 3
 /* Parses "auto", "fast", "xu" or "table" into *method. Returns 0 or -1 with e set. */
@@ -81,6 +81,7 @@ typedef struct sl_render_opts {
     const sl_srbf_ren_params *table_params;
 } sl_render_opts;
 void sl_render_opts_default(sl_render_opts *o);
+
 
 enum { SL_PASS_RUN = 0, SL_PASS_CACHED = 1, SL_PASS_SKIPPED = 2 };
 typedef struct sl_pass_rec {
