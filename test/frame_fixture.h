@@ -106,18 +106,19 @@ static inline float *frame_strand_sigma_a(const frame_tiny *t) {
 
 /* A paint test's tally of frame b (odd strands painted) against frame a (unpainted). */
 typedef struct frame_paint_tally {
-    int clean;      /* pixels whose K-buffer entries all belong to even (unpainted) strands */
-    int clean_same; /* 1 when every clean pixel is bit-identical in a and b */
-    int painted_px; /* pixels with a painted entry and alpha > 0.05 */
-    int darker;     /* of those, darker in b */
-    int brighter;   /* of those, brighter in b beyond float rounding */
-    int changed;    /* rgb floats that differ at all */
+    int clean;          /* pixels whose K-buffer entries all belong to even (unpainted) strands */
+    int clean_same;     /* 1 when every clean pixel is bit-identical in a and b */
+    int clean_brighter; /* clean pixels brighter in b beyond float rounding */
+    int painted_px;     /* pixels with a painted entry and alpha > 0.05 */
+    int darker;         /* of those, darker in b */
+    int brighter;       /* of those, brighter in b beyond float rounding */
+    int changed;        /* rgb floats that differ at all */
 } frame_paint_tally;
 
 /* r's K-buffer (of frame b) says which strands reach each pixel. */
 static inline frame_paint_tally frame_paint_compare(const sl_renderer *r, const frame_tiny *t,
                                                     const sl_fbuf *a, const sl_fbuf *b) {
-    frame_paint_tally y = {0, 1, 0, 0, 0, 0};
+    frame_paint_tally y = {0, 1, 0, 0, 0, 0, 0};
     uint32_t n = t->h.num_strands;
     uint32_t *strand_of = malloc(t->h.num_points * sizeof *strand_of);
     for (uint32_t s = 0; s < n; s++)
@@ -139,6 +140,7 @@ static inline frame_paint_tally frame_paint_compare(const sl_renderer *r, const 
         if (!painted) {
             y.clean++;
             y.clean_same &= memcmp(a->rgba + 4 * px, b->rgba + 4 * px, 4 * sizeof(float)) == 0;
+            y.clean_brighter += sb_ > sa_ * (1 + 1e-6) + 1e-9;
         } else if (a->rgba[4 * px + 3] > 0.05f) {
             /* more absorption never brightens (R does not depend on sigma_a, TT and TRT fall);
              * 1e-6 relative: float rounding of the composite */

@@ -91,7 +91,8 @@ void slref_path_trace(const slref_path_ctx *c, int px, int py, uint32_t sample, 
         double h = slref_fiber_offset(org, d, p0, fr[0], rad);
         slref_frame_angles(fr[0], fr[1], fr[2], wo, &to, &po);
         slref_bsdf b;
-        slref_bsdf_init(&b, c->m, to, po, h);
+        sl_material own;
+        slref_bsdf_init(&b, slref_strand_material(c->m, c->strand_sa, hit.strand, &own), to, po, h);
         light_sample(c, &b, (const double(*)[3])fr, x, &hit, k, beta, frac, &r, o);
         /* the fiber sample: the path's continuation, and the map seen along it */
         double ti, pi_, pb, f[3], lob[SLREF_NLOBES][3];

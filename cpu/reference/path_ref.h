@@ -32,6 +32,9 @@
 typedef struct slref_path_ctx {
     const slref_rt *rt;
     const sl_material *m;
+    /* per-strand sigma_a (3 per strand, material.strand_sigma_a) replacing m's at every event
+     * on that strand, or NULL */
+    const float *strand_sa;
     const slref_env *env;
     const sl_camera *cam;
     uint64_t seed;

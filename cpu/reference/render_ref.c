@@ -128,6 +128,17 @@ static void ms_integral(const sl_material *m, const slref_ms_tables *t, int nch,
     }
 }
 
+const sl_material *slref_strand_material(const sl_material *m, const float *sa, uint32_t strand,
+                                         sl_material *own) {
+    if (!sa) return m;
+    *own = *m;
+    const float *q = sa + 3 * (size_t)strand;
+    for (int c = 0; c < 3; c++)
+        own->sigma_a[c] = q[c];
+    own->sigma_a_rgb = m->sigma_a_rgb || q[0] != q[1] || q[1] != q[2];
+    return own;
+}
+
 void slref_shade(const slref_shading *sh, const double x[3], const double wo[3], uint32_t prim,
                  double ss[3], double ms[3], double modes[9]) {
     slref_shade_lights(sh, x, wo, prim, 0, 1, ss, ms, modes);
@@ -136,13 +147,17 @@ void slref_shade(const slref_shading *sh, const double x[3], const double wo[3],
 void slref_shade_lights(const slref_shading *sh, const double x[3], const double wo[3],
                         uint32_t prim, int l0, int stride, double ss[3], double ms[3],
                         double modes[9]) {
-    const sl_material *m = sh->m;
     double u[3], v[3], w[3], to, po;
     uint32_t strand, seg;
     slref_rt_prim_info(sh->rt, prim, &strand, &seg, u);
+    sl_material own;
+    const sl_material *m = slref_strand_material(sh->m, sh->strand_sa, strand, &own);
     slref_fiber_frame(u, v, w);
     angles(u, v, w, wo, &to, &po);
     int nch = (m->sigma_a[0] == m->sigma_a[1] && m->sigma_a[1] == m->sigma_a[2]) ? 1 : 3;
+    /* multiple scattering reads the material's tables (sh->m), single scattering m */
+    const sl_material *mm = sh->m;
+    int nchm = (mm->sigma_a[0] == mm->sigma_a[1] && mm->sigma_a[1] == mm->sigma_a[2]) ? 1 : 3;
     for (int c = 0; c < 3; c++)
         ss[c] = ms[c] = 0;
     if (modes)
@@ -180,7 +195,7 @@ void slref_shade_lights(const slref_shading *sh, const double x[3], const double
         if (n == 0) {
             /* Direct light: local backscattering only (Zinke's f_back^direct, Xu's S_back). */
             if (cos(phi) > 0 && cd > 1e-9)
-                for (int cc = 0; cc < nch; cc++) {
+                for (int cc = 0; cc < nchm; cc++) {
                     double ab = slref_ms_term(sh->ms, cc, SLREF_DUAL_A_B, td);
                     double db = slref_ms_term(sh->ms, cc, SLREF_DUAL_DELTA_B, td);
                     double sb = slref_ms_term(sh->ms, cc, SLREF_DUAL_SIGMA_B, td);
@@ -191,31 +206,31 @@ void slref_shade_lights(const slref_shading *sh, const double x[3], const double
             /* Forward path: T_f = d_f prod a_f, spread in theta_i: s^2 = sum 2 beta_f^2. */
             double tf[3], var[3];
             int live = 0;
-            for (int cc = 0; cc < nch; cc++)
+            for (int cc = 0; cc < nchm; cc++)
                 tf[cc] = SLREF_MS_DF, var[cc] = 0;
             for (int k = 0; k < n; k++) {
                 double uk[3];
                 slref_rt_prim_info(sh->rt, cross[k], NULL, NULL, uk);
                 double s = fabs(dot3(uk, L->dir));
                 double tk = asin(s > 1 ? 1 : s);
-                for (int cc = 0; cc < nch; cc++) {
+                for (int cc = 0; cc < nchm; cc++) {
                     double bf = slref_ms_term(sh->ms, cc, SLREF_DUAL_BETA_F, tk);
                     tf[cc] *= slref_ms_term(sh->ms, cc, SLREF_DUAL_AF, tk);
                     var[cc] += 2 * bf * bf;
                 }
             }
-            for (int cc = 0; cc < nch; cc++)
+            for (int cc = 0; cc < nchm; cc++)
                 live += tf[cc] > 1e-12;
             if (live > 0) {
                 double cj = cos(ti), integ[3];
                 if (cj < 1e-6) cj = 1e-6;
-                ms_integral(m, sh->ms, nch, var, ti, to, phi, integ);
-                for (int cc = 0; cc < nch; cc++)
+                ms_integral(mm, sh->ms, nchm, var, ti, to, phi, integ);
+                for (int cc = 0; cc < nchm; cc++)
                     rch[cc] = tf[cc] / cj * integ[cc];
             }
         }
         for (int c = 0; c < 3; c++)
-            ms[c] += rch[c < nch ? c : 0] * L->rgb[c];
+            ms[c] += rch[c < nchm ? c : 0] * L->rgb[c];
     }
 }
 

@@ -39,6 +39,11 @@ double slref_ms_term(const slref_ms_tables *t, int ch, int term, double theta_d)
  * the azimuthal response to light spread uniformly over the forward half circle. */
 double slref_ms_ng(const slref_ms_tables *t, int ch, int mode, double theta_d, double phi);
 
+/* The material of strand `strand`: m itself when sa is NULL, else a copy in *own with sigma_a
+ * = the strand's three values of sa (material.strand_sigma_a, as the frame applies it). */
+const sl_material *slref_strand_material(const sl_material *m, const float *sa, uint32_t strand,
+                                         sl_material *own);
+
 /* What one hit receives; lights, material and geometry are shared, read-only. */
 typedef struct slref_shading {
     const slref_rt *rt;
@@ -46,6 +51,9 @@ typedef struct slref_shading {
     const slref_light *L;
     int nl;
     const slref_ms_tables *ms; /* NULL: single scattering only */
+    /* per-strand sigma_a (3 per strand) for single scattering, or NULL; multiple scattering
+     * keeps the tables of m (reference.c says so when both are on) */
+    const float *strand_sa;
 } slref_shading;
 
 /* The fiber frame of a segment with unit tangent u (numerics.md sec. 1): v is the component of

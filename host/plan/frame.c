@@ -77,6 +77,7 @@ void sl_renderer_free(sl_renderer *r) {
     sl_frame_free_lights(r);
     sl_frame_free_volume(r);
     if (r->have_vms) sl_volume_ms_free(&r->vms);
+    if (r->have_msn) sl_volume_ms_nodes_free(&r->msn);
     if (r->have_tables) sl_srbf_tables_free(&r->tables);
     sl_frame_free_ren(r);
     free(r->view.kbuf);

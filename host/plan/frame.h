@@ -41,6 +41,7 @@
 #include "passes/shade/srbf_tables.h"
 #include "passes/volume/volume.h"
 #include "passes/volume/volume_ms.h"
+#include "passes/volume/volume_ms_nodes.h"
 #include "passes/resolve/resolve.h"
 
 #include <stdio.h>

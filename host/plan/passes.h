@@ -118,6 +118,11 @@ int sl_pass_light(sl_renderer *r, const sl_frame_inputs *in, sl_err *e);
 int sl_pass_ms(sl_renderer *r, const sl_frame_inputs *in, sl_err *e);
 int sl_ms_needed(const sl_renderer *r, const sl_frame_inputs *in);
 int sl_pass_dual(sl_renderer *r, const sl_frame_inputs *in, sl_err *e);
+/* The material multiple scattering's volume passes use: the scene's, with sigma_a replaced by
+ * the strands' mean where per-strand sigma_a is set (run_volume.c says how). */
+void sl_frame_ms_material(const sl_renderer *r, const sl_frame_inputs *in, sl_material *m);
+uint64_t sl_dual_settings(const sl_renderer *r, const sl_frame_inputs *in);
+uint64_t sl_ms_table_settings(const sl_renderer *r, const sl_frame_inputs *in);
 uint64_t sl_volume_settings(const sl_renderer *r, const sl_frame_inputs *in);
 int sl_pass_volume(sl_renderer *r, const sl_frame_inputs *in, sl_err *e);
 int sl_pass_ms_table(sl_renderer *r, const sl_frame_inputs *in, sl_err *e);

@@ -51,6 +51,10 @@ struct sl_renderer {
     sl_ftex ftex;
     int have_vms; /* multiple-scattering response tables (material) */
     sl_volume_ms vms;
+    /* the same at the per-strand sigma_a nodes, built with vms when strand_sigma_a is set
+     * (host/passes/volume/volume_ms_nodes.h) */
+    int have_msn;
+    sl_volume_ms_nodes msn;
     sl_view_result view; /* the last view pass: K-buffer, counts, median segment length */
     /* per-strand absorption overrides (painted, or from the file's colours; docs/frame.md):
      * 3 floats (sigma_a r, g, b) per strand, or NULL: every strand uses the material's sigma_a.

@@ -84,9 +84,12 @@ int sl_pass_shade(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     const sl_scene *s = in->s;
     const sl_frame_work *w = &r->fw;
     sl_shade_points *pts = &r->fw.pts;
-    sl_shade_ctx sc = {&s->material,     w->fl,    w->used,  w->nused, w->share,
-                       in->cam,          r->ms_on, &r->ftex, &r->vms,  s->point_threshold,
-                       r->strand_sigma_a};
+    sl_shade_ctx sc = {&s->material,      w->fl,
+                       w->used,           w->nused,
+                       w->share,          in->cam,
+                       r->ms_on,          &r->ftex,
+                       &r->vms,           s->point_threshold,
+                       r->strand_sigma_a, r->have_msn ? &r->msn : NULL};
     if (sl_frame_shade(r, &sc, pts, e)) return -1;
     double lobes_eval = 0;
     for (size_t i = 0; i < pts->n; i++)

@@ -1,10 +1,13 @@
 /* run_volume.c: the frame's multiple-scattering passes: the decision (ms: off, on, or auto by
  * the estimated share), the dual-scattering tables (dual), the voxel grid and shadow-path march
  * (volume) and the response tables (ms table). The last three run only when ms is on and are
- * cached by their keys (plan/passes.h). They use the material's sigma_a, never the per-strand
- * overrides (docs/frame.md). */
+ * cached by their keys (plan/passes.h). With per-strand sigma_a, the decision, the dual tables
+ * and the march use the strands' mean sigma_a (the hair volume's average fiber), and the ms
+ * table pass builds the response at the strands' sigma_a nodes besides the material's
+ * (docs/frame.md, "Per-strand sigma_a"). */
 #include "plan/frame_internal.h"
 
+#include <math.h>
 #include <stdlib.h>
 
 void sl_frame_free_march(sl_renderer *r) {
@@ -20,6 +23,55 @@ void sl_frame_free_volume(sl_renderer *r) {
     r->vox_key = 0;
 }
 
+/* Steps of the strands' mean sigma_a in u = ln(sigma_a + SL_MSN_U0): a paint stroke that moves
+ * the mean by less than about 1 % of sigma_a + 0.02 keeps the march (a 2 % change of every
+ * fiber's absorption moves T_f by well under 1 % at the default scene's depths). */
+#define MS_MEAN_STEP 0.02
+
+void sl_frame_ms_material(const sl_renderer *r, const sl_frame_inputs *in, sl_material *m) {
+    *m = in->s->material;
+    const float *sa = r->strand_sigma_a;
+    size_t n = r->strand_sigma_a_n;
+    if (!sa || !n) return;
+    int differs = 0;
+    for (int c = 0; c < 3; c++) {
+        float own = (float)in->s->material.sigma_a[c];
+        int same = 1, uniform = 1;
+        double sum = 0;
+        for (size_t i = 0; i < n; i++) {
+            float v = sa[3 * i + c];
+            sum += v;
+            same &= v == own;
+            uniform &= v == sa[c];
+        }
+        if (same) continue; /* the material's own value, bit for bit */
+        double mean = uniform ? (double)sa[c] : sum / (double)n;
+        if (!uniform) { /* quantized: nearby paint states share the march */
+            double u = log(mean + SL_MSN_U0);
+            mean = exp(MS_MEAN_STEP * floor(u / MS_MEAN_STEP + 0.5)) - SL_MSN_U0;
+            mean = mean > 0 ? mean : 0;
+        }
+        m->sigma_a[c] = mean;
+        differs = 1;
+    }
+    if (differs && (m->sigma_a[0] != m->sigma_a[1] || m->sigma_a[1] != m->sigma_a[2]))
+        m->sigma_a_rgb = 1;
+}
+
+uint64_t sl_dual_settings(const sl_renderer *r, const sl_frame_inputs *in) {
+    sl_material m;
+    sl_frame_ms_material(r, in, &m);
+    return sl_hash64(m.sigma_a, sizeof m.sigma_a, 0x4455414c ^ (uint64_t)m.sigma_a_rgb);
+}
+
+uint64_t sl_ms_table_settings(const sl_renderer *r, const sl_frame_inputs *in) {
+    (void)in;
+    if (!r->strand_sigma_a) return 0x4d53;
+    sl_volume_ms_nodes nd;
+    sl_volume_ms_nodes_place(r->strand_sigma_a, r->strand_sigma_a_n, &nd);
+    return nd.key;
+}
+
 int sl_ms_needed(const sl_renderer *r, const sl_frame_inputs *in) {
     (void)in;
     return r->ms_on;
@@ -28,7 +80,9 @@ int sl_ms_needed(const sl_renderer *r, const sl_frame_inputs *in) {
 int sl_pass_ms(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     (void)e;
     const sl_scene *s = in->s;
-    const sl_material *mat = &s->material;
+    sl_material msmat;
+    sl_frame_ms_material(r, in, &msmat);
+    const sl_material *mat = &msmat;
     r->ms_on = 0;
     r->rec_state = SL_PASS_SKIPPED;
     if (s->multiple_scattering == SL_MS_OFF) {
@@ -44,7 +98,7 @@ int sl_pass_ms(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
                      "%.3g)%s",
                      s->multiple_scattering == SL_MS_ON ? "on" : "auto", ms_share,
                      s->ms_auto_threshold,
-                     r->strand_sigma_a ? "; uses the material's sigma_a, not per strand" : "");
+                     r->strand_sigma_a ? "; of the strands' mean sigma_a" : "");
     } else {
         sl_frame_why(r,
                      "auto: dark hair, estimated multiple-scattering share %.4f < %.3g "
@@ -56,9 +110,15 @@ int sl_pass_ms(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
 
 int sl_pass_dual(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     r->dual_ok = 0;
-    if (sl_dual_tables_build(&in->s->material, &r->dual, e)) return -1;
+    sl_material m;
+    sl_frame_ms_material(r, in, &m);
+    if (sl_dual_tables_build(&m, &r->dual, e)) return -1;
     r->dual_ok = 1;
-    sl_frame_why(r, "dual-scattering material tables (material changed)");
+    if (r->strand_sigma_a)
+        sl_frame_why(r, "dual-scattering tables of the strands' mean sigma_a %.4g %.4g %.4g",
+                     m.sigma_a[0], m.sigma_a[1], m.sigma_a[2]);
+    else
+        sl_frame_why(r, "dual-scattering material tables (material changed)");
     return 0;
 }
 
@@ -112,9 +172,22 @@ int sl_pass_volume(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
 
 int sl_pass_ms_table(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     if (r->have_vms) sl_volume_ms_free(&r->vms);
-    r->have_vms = 0;
+    if (r->have_msn) sl_volume_ms_nodes_free(&r->msn);
+    r->have_vms = r->have_msn = 0;
     if (sl_volume_ms_init(&in->s->material, &r->vms, e)) return -1;
     r->have_vms = 1;
+    if (r->strand_sigma_a) {
+        if (sl_volume_ms_nodes_init(&in->s->material, r->strand_sigma_a, r->strand_sigma_a_n,
+                                    sl_frame_threads(r), &r->msn, e))
+            return -1;
+        r->have_msn = 1;
+        sl_frame_why(r,
+                     "multiple-scattering response tables of the material and of %d per-strand "
+                     "sigma_a nodes (%s; %.2f s)",
+                     r->msn.n, r->msn.exact ? "the strands' own values" : "spaced in ln sigma_a",
+                     r->msn.build_s);
+        return 0;
+    }
     sl_frame_why(r,
                  "multiple-scattering response tables of the material (%.2f s of it "
                  "the response table, docs/volume.md)",

@@ -244,7 +244,12 @@ static void accumulate(const shade_common *sc, rowbuf *b) {
             float Tf[3], sf[3];
             sl_ftex_lookup(c->ftex, j, p->pos + 3 * i, Tf, sf);
             const float *x = b->in + 5 * k;
-            sl_volume_ms_response(c->vms, x[0], x[1], x[2], x[3], x[4], Tf, sf, T, ms);
+            const float *sa = sc->ssig && c->msn ? sc->ssig + 3 * (size_t)p->strand[i] : NULL;
+            if (sa && (sa[0] != sc->msig[0] || sa[1] != sc->msig[1] || sa[2] != sc->msig[2]))
+                sl_volume_ms_nodes_response(c->msn, sa, x[0], x[1], x[2], x[3], x[4], Tf, sf, T,
+                                            ms);
+            else
+                sl_volume_ms_response(c->vms, x[0], x[1], x[2], x[3], x[4], Tf, sf, T, ms);
         }
         const float *o = b->res + 9 * k; /* R rgb, TT rgb, TRT rgb */
         for (int col = 0; col < 3; col++) {

@@ -13,6 +13,7 @@
 #include "passes/shade/srbf_tables.h"
 #include "passes/volume/volume.h"
 #include "passes/volume/volume_ms.h"
+#include "passes/volume/volume_ms_nodes.h"
 #include "scene/camera.h"
 #include "scene/material.h"
 
@@ -32,6 +33,9 @@ typedef struct sl_shade_ctx {
     /* per-strand sigma_a (3 per strand, indexed by sl_shade_points.strand), or NULL: the
      * material's sigma_a everywhere (the same as r->strand_sigma_a, checked against the hair) */
     const float *strand_sigma_a;
+    /* with strand_sigma_a and ms_on: the MS response at the strands' sigma_a nodes; a strand
+     * whose sigma_a is the material's reads vms */
+    const sl_volume_ms_nodes *msn;
 } sl_shade_ctx;
 
 /* Where and how the rows are evaluated (the planner fills it from the renderer). */

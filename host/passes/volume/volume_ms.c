@@ -146,6 +146,11 @@ void sl_volume_ms_response(const sl_volume_ms *ms, float theta_o, float phi_o, f
                            float Tj, float out[3]) {
     float MG[3], ML[3];
     sl_volume_ms_terms(ms, theta_o, phi_o, theta_j, phi_j, lambda, sigma_f, MG, ML);
+    sl_volume_ms_combine(lambda, Tf, Tj, MG, ML, out);
+}
+
+void sl_volume_ms_combine(float lambda, const float Tf[3], float Tj, const float MG[3],
+                          const float ML[3], float out[3]) {
     double l2 = (double)lambda * lambda, P = 3.14159265358979 * l2 * (1 - exp(-4 / l2));
     for (int c = 0; c < 3; c++) {
         float g = Tf[c] - Tj > 0.0f ? Tf[c] - Tj : 0.0f;

@@ -56,5 +56,9 @@ void sl_volume_ms_terms_exact(const sl_volume_ms *ms, float theta_o, float phi_o
 void sl_volume_ms_response(const sl_volume_ms *ms, float theta_o, float phi_o, float theta_j,
                            float phi_j, float lambda, const float Tf[3], const float sigma_f[3],
                            float Tj, float out[3]);
+/* The same radiance from the two parts MG, ML (sl_volume_ms_terms, or per-strand nodes:
+ * volume_ms_nodes.h). */
+void sl_volume_ms_combine(float lambda, const float Tf[3], float Tj, const float MG[3],
+                          const float ML[3], float out[3]);
 
 #endif

@@ -74,18 +74,27 @@ cJSON *sl_ref_json_read(const char *path) {
 }
 
 int sl_ref_scene_load(const sl_scene *s, int width, int height, sl_hair *hair, sl_camera *cam,
-                      sl_err *e) {
-    sl_scene_inputs_opts io = {.width = width, .height = height};
+                      float **strand_sa, sl_err *e) {
+    sl_scene_inputs_opts io = {.width = width, .height = height, .strand_sigma_a = 1};
     sl_scene_inputs in;
+    *strand_sa = NULL;
     if (sl_scene_inputs_from_scene(s, &io, &in, e)) {
         sl_scene_inputs_free(&in);
         return -1;
     }
     *hair = in.hair;
     *cam = in.cam;
+    *strand_sa = in.strand_sigma_a;
     memset(&in.hair, 0, sizeof in.hair);
+    in.strand_sigma_a = NULL;
     sl_scene_inputs_free(&in);
     return 0;
+}
+
+uint64_t sl_ref_strand_hash(uint64_t h, const float *strand_sa, uint32_t n) {
+    if (!strand_sa) return h;
+    h = sl_hash64("strand_sigma_a", 14, h);
+    return sl_hash64(strand_sa, 3 * (size_t)n * sizeof *strand_sa, h);
 }
 
 static void key_string(uint64_t key, char out[32]) {

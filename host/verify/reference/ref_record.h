@@ -39,11 +39,14 @@ int sl_ref_json_write(const char *path, cJSON *root, sl_err *e);
 /* Reads and parses a JSON record of at most 1 MiB; NULL when missing or malformed. */
 cJSON *sl_ref_json_read(const char *path);
 
-/* Hair and camera through the loader `render` uses (scene_inputs.h: the same framing, the
- * same width/height overrides, 0 for the scene's); the hair moves into *hair. Returns 0 or -1
- * with e set (nothing to free then). */
+/* Hair, camera and per-strand sigma_a through the loader `render` uses (scene_inputs.h: the
+ * same framing, the same width/height overrides, 0 for the scene's, material.strand_sigma_a
+ * resolved against the hair: 3 floats per strand into *strand_sa, NULL without the key; free
+ * it); the hair moves into *hair. Returns 0 or -1 with e set (nothing to free then). */
 int sl_ref_scene_load(const sl_scene *s, int width, int height, sl_hair *hair, sl_camera *cam,
-                      sl_err *e);
+                      float **strand_sa, sl_err *e);
+/* The per-strand sigma_a (3 per strand of n, or NULL) into h (a reference's cache key). */
+uint64_t sl_ref_strand_hash(uint64_t h, const float *strand_sa, uint32_t n);
 
 /* Starts a record: a new root with the object "reference" holding "key" (16 hex digits),
  * "scene", "width" and "height"; returns root and sets *ref. */

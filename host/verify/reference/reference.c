@@ -23,7 +23,7 @@
 #include <unistd.h>
 
 /* Bump when the reference's output changes for the same inputs (invalidates caches). */
-#define SL_REFERENCE_VERSION "reference-4"
+#define SL_REFERENCE_VERSION "reference-5" /* 5: material.strand_sigma_a honoured */
 /* Fragment mode's own version (mixed into its keys only: pixel-mode caches stay valid). */
 #define SL_REFERENCE_FRAG_VERSION "fragments-1"
 
@@ -42,6 +42,7 @@ typedef struct prep {
     sl_hair hair;
     sl_envmap map;
     sl_camera cam;
+    float *strand_sa; /* material.strand_sigma_a: 3 per strand, or NULL */
     int ms;
     slref_rt *rt;
     slref_ms_tables *mst;
@@ -55,6 +56,7 @@ static void prep_free(prep *p) {
     slref_rt_free(p->rt);
     sl_envmap_free(&p->map);
     sl_hair_free(&p->hair);
+    free(p->strand_sa);
     memset(p, 0, sizeof *p);
 }
 
@@ -69,7 +71,8 @@ static int prepare(const sl_scene *s, const sl_reference_settings *set, prep *p,
                        s->path);
     /* hair and camera through the loader `render` uses: the same framing, the same size
      * overrides */
-    if (sl_ref_scene_load(s, set->width, set->height, &p->hair, &p->cam, e)) return -1;
+    if (sl_ref_scene_load(s, set->width, set->height, &p->hair, &p->cam, &p->strand_sa, e))
+        return -1;
     if (sl_envmap_load(s->env_file, set->clamp_nonfinite, &p->map, e)) {
         prep_free(p);
         return -1;
@@ -95,6 +98,10 @@ static int prepare(const sl_scene *s, const sl_reference_settings *set, prep *p,
         prep_free(p);
         return -1;
     }
+    if (p->ms && p->strand_sa)
+        sl_note("reference: material.strand_sigma_a: single scattering per strand; this "
+                "reference's multiple scattering keeps the material's sigma_a (the path "
+                "tracer, --path, follows every strand's own)");
     p->threads = set->threads > 0 ? set->threads : sl_parallel_cpus();
     if (set->fragments && sl_ref_kbuffer_build(s, &p->hair, &p->cam, p->threads, &p->kb, e)) {
         prep_free(p);
@@ -112,6 +119,7 @@ static uint64_t compute_key(const sl_scene *s, const sl_reference_settings *set,
         sl_hash64(SL_REFERENCE_VERSION, strlen(SL_REFERENCE_VERSION), 1469598103934665603ull);
     const sl_hair *hr = &p->hair;
     h = sl_ref_content_hash(h, hr, p->map.hash, &s->material, &p->cam);
+    h = sl_ref_strand_hash(h, p->strand_sa, hr->num_strands);
     if (set->fragments) {
         /* "fragments", K and what the view pass reads besides the geometry (transparency);
          * aa, seed and the light split do not enter (no camera rays) */
@@ -164,7 +172,7 @@ static int render_prepared(const sl_scene *s, const sl_reference_settings *set, 
     slref_light *L = NULL;
     int nl = 0;
     if (make_lights(s, p, n, &L, &nl, e)) return -1;
-    slref_shading sh = {p->rt, &s->material, L, nl, p->ms ? p->mst : NULL};
+    slref_shading sh = {p->rt, &s->material, L, nl, p->ms ? p->mst : NULL, p->strand_sa};
     sl_progress pr;
     slref_render_opts o = {set->aa, 0, seed, p->threads, NULL, NULL};
     if (set->progress) {

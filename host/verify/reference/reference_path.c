@@ -29,6 +29,7 @@ void sl_path_prep_free(sl_path_prep *p) {
     slref_rt_free(p->rt);
     sl_envmap_free(&p->map);
     sl_hair_free(&p->hair);
+    free(p->strand_sa);
     memset(p, 0, sizeof *p);
 }
 
@@ -41,7 +42,8 @@ int sl_path_prepare(const sl_scene *s, const sl_path_settings *set, sl_path_prep
                        "%s: environment.file: the path tracer needs an environment map (lobes "
                        "alone are not enough)",
                        s->path);
-    if (sl_ref_scene_load(s, set->width, set->height, &p->hair, &p->cam, e)) return -1;
+    if (sl_ref_scene_load(s, set->width, set->height, &p->hair, &p->cam, &p->strand_sa, e))
+        return -1;
     if (sl_envmap_load(s->env_file, set->clamp_nonfinite, &p->map, e)) {
         sl_path_prep_free(p);
         return -1;
@@ -121,13 +123,8 @@ int sl_path_render_prepared(const sl_scene *s, const sl_path_settings *set, sl_p
     if (!p->env.row_cdf)
         slref_env_build(&p->env, p->map.rgb, p->map.width, p->map.height, s->env_rotation_deg,
                         s->env_intensity);
-    slref_path_ctx ctx = {p->rt,
-                          &s->material,
-                          &p->env,
-                          &p->cam,
-                          set->seed,
-                          SLREF_PATH_MAX_EVENTS,
-                          SLREF_PATH_RR_EVENTS};
+    slref_path_ctx ctx = {p->rt,   &s->material, p->strand_sa,          &p->env,
+                          &p->cam, set->seed,    SLREF_PATH_MAX_EVENTS, SLREF_PATH_RR_EVENTS};
     slref_path_accum acc;
     slref_path_accum_init(&acc, p->cam.width, p->cam.height);
     int most = set->spp; /* 0 with a time budget: no sample limit */

@@ -15,8 +15,9 @@ typedef struct sl_path_prep {
     sl_hair hair;
     sl_envmap map;
     sl_camera cam;
-    slref_rt *rt;  /* built at the first render */
-    slref_env env; /* likewise */
+    float *strand_sa; /* material.strand_sigma_a: 3 per strand, or NULL */
+    slref_rt *rt;     /* built at the first render */
+    slref_env env;    /* likewise */
     int threads;
 } sl_path_prep;
 

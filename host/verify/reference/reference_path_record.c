@@ -13,11 +13,12 @@
 #include <unistd.h>
 
 /* Bump when the path tracer's output changes for the same inputs (invalidates caches). */
-#define SL_PATH_VERSION "path-1"
+#define SL_PATH_VERSION "path-2" /* path-2: material.strand_sigma_a honoured */
 
 uint64_t sl_path_key(const sl_scene *s, const sl_path_prep *p, int spp, uint64_t seed) {
     uint64_t h = sl_hash64(SL_PATH_VERSION, strlen(SL_PATH_VERSION), SL_HASH64_BASIS);
     h = sl_ref_content_hash(h, &p->hair, p->map.hash, &s->material, &p->cam);
+    h = sl_ref_strand_hash(h, p->strand_sa, p->hair.num_strands);
     double v[] = {s->material.logistic_s, s->env_rotation_deg,   s->env_intensity,    spp,
                   (double)seed,           SLREF_PATH_MAX_EVENTS, SLREF_PATH_RR_EVENTS};
     return sl_ref_hash_doubles(h, v, sizeof v / sizeof v[0]);

@@ -122,7 +122,7 @@ static void scene1_free(scene1 *s) {
 }
 
 static void render_centre(scene1 *s, const slref_ms_tables *ms, slref_image *img) {
-    slref_shading sh = {s->rt, &s->m, &s->light, 1, ms};
+    slref_shading sh = {s->rt, &s->m, &s->light, 1, ms, NULL};
     slref_render_opts o = {1, 1, 7, 2, NULL, NULL}; /* aa 1, no jitter: the pixel centre */
     sl_err e;
     CHECK(slref_render(&sh, &s->cam, &o, img, &e) == 0);
@@ -363,7 +363,7 @@ TEST(reference_deterministic_across_threads) {
     sl_material_default(&m);
     sl_camera cam;
     tiny_camera(&cam);
-    slref_shading sh = {rt, &m, L, 2, NULL};
+    slref_shading sh = {rt, &m, L, 2, NULL, NULL};
     slref_image i1, i3;
     slref_render_opts o1 = {2, 0, 42, 1, NULL, NULL}, o3 = {2, 0, 42, 3, NULL, NULL};
     CHECK(slref_render(&sh, &cam, &o1, &i1, &e) == 0);

@@ -61,7 +61,7 @@ TEST(reffrag_single_strand_exact) {
         for (int k = 0; k < 3; k++)
             L[l].dir[k] /= n;
     }
-    slref_shading sh = {rt, &s->material, L, 2, NULL};
+    slref_shading sh = {rt, &s->material, L, 2, NULL, NULL};
     slref_render_opts o = {1, 0, 0, 2, NULL, NULL};
     slref_kbuf k = {kb.w, kb.h, kb.K, kb.kbuf, kb.kcount};
     slref_image img;
@@ -179,7 +179,7 @@ TEST(reffrag_alpha_depth_equal_fast_path) {
     slref_rt *rt = NULL;
     CHECK(slref_rt_build(&t.h, &rt, &e) == 0);
     slref_light L[1] = {{{0, 1, 0}, {1, 1, 1}}};
-    slref_shading sh = {rt, &t.s.material, L, 1, NULL};
+    slref_shading sh = {rt, &t.s.material, L, 1, NULL, NULL};
     slref_render_opts o = {1, 0, 0, 2, NULL, NULL};
     slref_kbuf k = {kb.w, kb.h, kb.K, kb.kbuf, kb.kcount};
     slref_image img;
@@ -215,7 +215,7 @@ TEST(reffrag_threads_identical) {
     slref_ms_tables *mst = NULL;
     CHECK_MSG(slref_ms_tables_build(&t.s.material, 2, &mst, &e) == 0, "%s", e.msg);
     slref_light L[2] = {{{0, 0.8, 0.6}, {1, 0.8, 0.6}}, {{0.6, 0, -0.8}, {0.5, 0.5, 0.5}}};
-    slref_shading sh = {rt, &t.s.material, L, 2, mst};
+    slref_shading sh = {rt, &t.s.material, L, 2, mst, NULL};
     slref_image a, b;
     slref_render_opts o1 = {1, 0, 0, 1, NULL, NULL}, o3 = {1, 0, 0, 3, NULL, NULL};
     slref_kbuf k1 = {kb1.w, kb1.h, kb1.K, kb1.kbuf, kb1.kcount};
