@@ -276,6 +276,10 @@ int sl_output_precheck(const char *path, const char *what, sl_err *e) {
     if (stat(up, &st) != 0 || !S_ISDIR(st.st_mode))
         return sl_fail(e, "%s: %s: directory %s does not exist (only one missing level is created)",
                        what, path, up);
+    /* a typo at the top of the tree (issue 22: "/ouput/x.exr" made /ouput as root) */
+    if (strcmp(up, "/") == 0)
+        return sl_fail(e, "%s: %s: directory %s does not exist (none is created at /)", what, path,
+                       dir);
     if (access(up, W_OK | X_OK) != 0)
         return sl_fail(e, "%s: %s: cannot create %s: %s is not writable", what, path, dir, up);
     return 0;

@@ -327,6 +327,7 @@ int cmd_render(int argc, char **argv) {
     if (in.strand_sigma_a &&
         sl_renderer_set_strand_sigma_a(r, in.strand_sigma_a, h->num_strands, &e))
         goto done;
+    double tprev = sl_now(); /* start of the previous frame */
     for (long f = fa; f < fb; f++) {
         sl_camera cam = cam0;
         char exr_f[4200], png_f[4200] = "";
@@ -347,6 +348,19 @@ int cmd_render(int argc, char **argv) {
         }
         sl_fbuf fbuf;
         double tf = sl_now();
+        /* the status line on a terminal: which frame, and (after the first) the time left at the
+         * last frame's time (later frames reuse the first's light pass and tables, so the mean
+         * so far would overestimate it) */
+        char label[128];
+        long done = f - fa, total = fb - fa;
+        if (done > 0) {
+            double left = (tf - tprev) * (double)(total - done);
+            snprintf(label, sizeof label, "render: frame %ld of %ld, eta %ldm%02lds", done + 1,
+                     total, (long)left / 60, (long)left % 60);
+        } else
+            snprintf(label, sizeof label, "render: frame %ld of %ld", done + 1, total);
+        sl_renderer_set_status(r, label);
+        tprev = tf;
         if (sl_renderer_frame(r, s, h, lobes, &cam, &fbuf, &e)) goto done;
         int wrc = write_outputs(&fbuf, aovs, exr_f, png_f, s->exr_float,
                                 exposure_given ? exposure : s->exposure, &e);

@@ -143,6 +143,10 @@ const sl_pass_rec *sl_renderer_pass_at(const sl_renderer *r, int i) {
     return i >= 0 && i < r->npass ? &r->pass[i] : NULL;
 }
 
+void sl_renderer_set_status(sl_renderer *r, const char *label) {
+    snprintf(r->status_label, sizeof r->status_label, "%s", label ? label : "");
+}
+
 int sl_renderer_lobes_used(const sl_renderer *r) {
     return r->lobes_used;
 }
@@ -357,7 +361,8 @@ static int run_passes(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
             double t0 = sl_now();
             /* which pass a long frame is in, on a terminal (passes with a bar draw their own) */
             if (!r->o.quiet) /* the viewer and report render quietly, many frames */
-                sl_status("frame: %s pass (%d of %d), %.1f s", d->name, i + 1, SL_PASSID_COUNT,
+                sl_status("%s%s%s pass (%d of %d), %.1f s", r->status_label,
+                          r->status_label[0] ? ": " : "frame: ", d->name, i + 1, SL_PASSID_COUNT,
                           t0 - r->frame_t0);
             if (d->run(r, in, e)) return -1;
             if (d->keyed) r->key[i] = key;

@@ -112,6 +112,9 @@ int sl_renderer_set_strand_sigma_a(sl_renderer *r, const float *sigma_a, uint32_
  * so no table is built or loaded while sliders move) or has settled (0). The viewer sets it
  * while the material changes. */
 void sl_renderer_set_editing(sl_renderer *r, int editing);
+/* Text put before the pass on the status line a frame shows on a terminal (render: "frame 3 of
+ * 36, eta 1m05s"); NULL or "" for none. Copied (at most 127 bytes). */
+void sl_renderer_set_status(sl_renderer *r, const char *label);
 /* The last frame's plan, one line per pass: name, run/cached/skipped, why, seconds. */
 void sl_renderer_explain(const sl_renderer *r, FILE *f);
 /* The record of pass `name` in the last plan, NULL if it has none. */

@@ -27,7 +27,8 @@ typedef struct sl_frame_work {
 } sl_frame_work;
 
 struct sl_renderer {
-    double frame_t0; /* sl_now() at the start of the frame (status lines) */
+    double frame_t0;        /* sl_now() at the start of the frame (status lines) */
+    char status_label[128]; /* sl_renderer_set_status: before the pass on the status line */
     sl_device *dev;
     sl_render_opts o;
     /* the cache: each pass's key after its last successful run (0: nothing cached), and this

@@ -90,6 +90,10 @@ if run "$D/small.json" --quick --tiny -o "$D/out/small" --threads 2 --device non
     if [ "$nfront" -ge 1 ] && [ "$nheat" = "$nfront" ] && [ -s "$D/out/small/reference.png" ]; then pass report_heat_maps
     else fail report_heat_maps "front $nfront, heat maps $nheat"; fi
     no_leftovers report_no_temp_files "$D/out"
+    # progress (issue 22): each run's line ends with the sweep's time so far and the time left
+    if grep -q '^strandlight: report: run 1/[0-9]*: .*(sweep [0-9]* s, about [0-9]* s left)$' "$D/stderr"; then
+        pass report_progress_eta
+    else fail report_progress_eta "$(grep 'report: run' "$D/stderr" | head -1)"; fi
     ls "$D/out" | grep -q '\.tmp\.' && fail report_no_temp_dir "$(ls "$D/out")" || pass report_no_temp_dir
     # second run: the reference comes from the cache, so its row (time from the JSON) is equal
     reft1=$(grep '^reference' "$csv")

@@ -43,6 +43,8 @@ typedef struct sl_hair {
     uint32_t dropped_strands; /* USC .data strands with 1 point, dropped as Digital Salon does */
     uint32_t guide_strands;   /* strands before follow strands were added (= num_strands if none) */
     int follow_added;         /* 1 when follow strands were added (sl_hair_add_follow, .tfxproj) */
+    int color_from_file;      /* 1 when default_color is the file's colour of every strand (a
+                                 .tfxproj's hairColor); material.strand_sigma_a "colors" uses it */
     char notes[256];          /* format details for `info`, e.g. "version 3.0, bothEndsImmovable" */
 } sl_hair;
 

@@ -289,6 +289,7 @@ int sl_hair_load_tfxproj(const char *path, int with_follow, sl_hair *out, sl_err
         for (int i = 1; rc == 0 && i < loaded; i++)
             rc = sl_hair_append(out, &g[i], e);
         snprintf(out->format, sizeof out->format, "TressFX project .tfxproj");
+        out->color_from_file = p->has_color && !out->color;
         memcpy(out->notes, notes, sizeof notes);
         if (rc) sl_hair_free(out);
     }
