@@ -327,6 +327,11 @@ int cmd_render(int argc, char **argv) {
     if (in.strand_sigma_a &&
         sl_renderer_set_strand_sigma_a(r, in.strand_sigma_a, h->num_strands, &e))
         goto done;
+    if (s->strand_sigma_a_colors && s->multiple_scattering == SL_MS_OFF)
+        sl_note("%s: material.strand_sigma_a \"colors\": the file's colours are those of light "
+                "scattered many times (Chiang 2016); with quality.multiple_scattering off the "
+                "frame shows single scattering only, paler than the file",
+                s->path);
     double tprev = sl_now(); /* start of the previous frame */
     for (long f = fa; f < fb; f++) {
         sl_camera cam = cam0;

@@ -3,7 +3,6 @@
 #include "scene/scene_strands.h"
 
 #include "base/csv.h"
-#include "fiber_common_d.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -42,64 +41,7 @@ double sl_chiang_beta_m(double sd) {
     return 0.5 * (lo + hi);
 }
 
-/* Single scattering alone (quality.multiple_scattering "off") shows only R, TT and TRT, and R is
- * white: the colour a render can show is that of TT + TRT. Their energy at normal incidence,
- * over the fiber's width (h = sin gamma_i in [0, 1], by symmetry), per unit incident power:
- * g(sigma) = int (1 - F)^2 (T + F T^2) dh, T = exp(-2 sigma cos gamma_t) the absorption of one
- * chord (per unit radius), F the exact Fresnel reflectance at gamma_i. Choosing sigma with
- * g(sigma) = c g(0) scales the coloured part by c, so white R added keeps c's hue (HSV hue is
- * unchanged by adding grey). Chiang's Eq. 9 instead inverts the colour of every order of
- * scattering: with the orders beyond TRT dropped its sigma_a is 15-230x too small (c 0.3-0.925),
- * and straight.hair's blond (1, 0.925, 0.569) rendered grey (issue 22). */
-#define SS_NODES 96   /* midpoint rule over h (c met within 1.4e-3 relative: the unit test) */
-#define SS_TABLE 1024 /* sigma_k = SS_MAX (k / (SS_TABLE - 1))^2: dense near 0 */
-#define SS_MAX 64.0   /* g(64) / g(0) < 1e-40: below the clamp of c at 1e-4 */
-static double ss_energy(double sigma, double eta) {
-    double g = 0;
-    for (int i = 0; i < SS_NODES; i++) {
-        double h = (i + 0.5) / SS_NODES, ci = sqrt(1 - h * h), st = h / eta;
-        double F = sld_fresnel_exact(eta, ci), T = exp(-2 * sigma * sqrt(1 - st * st));
-        g += (1 - F) * (1 - F) * (T + F * T * T);
-    }
-    return g / SS_NODES;
-}
-
-typedef struct ss_table {
-    double sigma[SS_TABLE], ratio[SS_TABLE]; /* ratio = g(sigma) / g(0), decreasing from 1 */
-} ss_table;
-static void ss_table_build(ss_table *t, double eta) {
-    double g0 = ss_energy(0, eta);
-    for (int k = 0; k < SS_TABLE; k++) {
-        double u = (double)k / (SS_TABLE - 1);
-        t->sigma[k] = SS_MAX * u * u;
-        t->ratio[k] = ss_energy(t->sigma[k], eta) / g0;
-    }
-}
-/* sigma with ratio(sigma) = c: bisection over the table, then linear in between. */
-static double ss_table_invert(const ss_table *t, double c) {
-    if (!(c > 1e-4)) c = 1e-4;
-    if (c >= 1) return 0;
-    int lo = 0, hi = SS_TABLE - 1;
-    while (hi - lo > 1) {
-        int mid = (lo + hi) / 2;
-        if (t->ratio[mid] > c)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    double w = (t->ratio[lo] - c) / (t->ratio[lo] - t->ratio[hi]);
-    return t->sigma[lo] + w * (t->sigma[hi] - t->sigma[lo]);
-}
-
-double sl_single_sigma_a(double c, double eta) {
-    ss_table *t = sl_malloc(sizeof *t);
-    ss_table_build(t, eta);
-    double s = ss_table_invert(t, c);
-    free(t);
-    return s;
-}
-
-static int from_colors(const sl_hair *h, const sl_material *m, int single, float **out, sl_err *e) {
+int sl_strand_sigma_a_from_colors(const sl_hair *h, const sl_material *m, float **out, sl_err *e) {
     *out = NULL;
     if (!h->color && !h->color_from_file)
         return sl_fail(e,
@@ -113,11 +55,6 @@ static int from_colors(const sl_hair *h, const sl_material *m, int single, float
     double bn = m->model == SL_MODEL_CHIANG ? m->chiang.radial_roughness
                 : m->model == SL_MODEL_DEON ? sl_chiang_beta_m(m->beta[0])
                                             : sl_chiang_beta_m(m->beta[0] / sqrt(2.0));
-    ss_table *t = NULL;
-    if (single) {
-        t = sl_malloc(sizeof *t);
-        ss_table_build(t, m->eta);
-    }
     float *sa = sl_malloc(3 * ((size_t)h->num_strands + 1) * sizeof *sa);
     for (uint32_t s = 0; s < h->num_strands; s++) {
         uint32_t a = h->strand_first[s], b = h->strand_first[s + 1];
@@ -127,22 +64,11 @@ static int from_colors(const sl_hair *h, const sl_material *m, int single, float
                 c[q] += h->color ? h->color[3 * (size_t)i + q] : h->default_color[q];
         for (int q = 0; q < 3; q++) {
             double cq = c[q] / (double)(b - a);
-            sa[3 * (size_t)s + q] =
-                (float)(single ? ss_table_invert(t, cq) : sl_chiang_sigma_a(cq, bn));
+            sa[3 * (size_t)s + q] = (float)sl_chiang_sigma_a(cq, bn);
         }
     }
-    free(t);
     *out = sa;
     return 0;
-}
-
-int sl_strand_sigma_a_from_colors(const sl_hair *h, const sl_material *m, float **out, sl_err *e) {
-    return from_colors(h, m, 0, out, e);
-}
-
-int sl_strand_sigma_a_from_colors_single(const sl_hair *h, const sl_material *m, float **out,
-                                         sl_err *e) {
-    return from_colors(h, m, 1, out, e);
 }
 
 /* A strand index field: a non-negative integer below n. */
@@ -252,11 +178,9 @@ int sl_strand_sigma_a_write_csv(const char *path, const float *sa, uint32_t n, c
 
 int sl_scene_strand_sigma_a(const sl_scene *s, const sl_hair *h, float **out, sl_err *e) {
     *out = NULL;
-    /* with multiple scattering off, the inverse of what single scattering shows (see above) */
-    if (s->strand_sigma_a_colors)
-        return s->multiple_scattering == SL_MS_OFF
-                   ? sl_strand_sigma_a_from_colors_single(h, &s->material, out, e)
-                   : sl_strand_sigma_a_from_colors(h, &s->material, out, e);
+    /* one mapping whatever the render settings: sigma_a is the fiber's, and the references
+     * (which scatter every order) read it too (docs/formats.md) */
+    if (s->strand_sigma_a_colors) return sl_strand_sigma_a_from_colors(h, &s->material, out, e);
     if (!s->strand_sigma_a[0]) return 0;
     float base[3];
     for (int q = 0; q < 3; q++)

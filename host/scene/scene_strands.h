@@ -38,15 +38,6 @@ int sl_strand_sigma_a_parse_csv(const char *text, size_t len, const char *name, 
  * sl_chiang_beta_m). A hair without a per-point colour array uses the file's one colour (a
  * .tfxproj's hairColor, h->color_from_file); error when it has neither. */
 int sl_strand_sigma_a_from_colors(const sl_hair *h, const sl_material *m, float **out, sl_err *e);
-/* The same for single scattering alone (quality.multiple_scattering "off"): sigma_a per channel
- * from sl_single_sigma_a with the material's eta. sl_scene_strand_sigma_a picks this one when
- * the scene's multiple scattering is off, Chiang's otherwise. */
-int sl_strand_sigma_a_from_colors_single(const sl_hair *h, const sl_material *m, float **out,
-                                         sl_err *e);
-/* sigma_a (per unit radius) that scales the energy of TT + TRT at normal incidence (over the
- * fiber's width, exact Fresnel, index eta) by c: the colour single scattering shows is then c
- * plus white R. c is clamped to [1e-4, 1]; c = 1 gives 0. */
-double sl_single_sigma_a(double c, double eta);
 
 /* Chiang et al. 2016 Eq. 9: sigma_a (per unit fiber radius, as pbrt and numerics.md) of a hair
  * whose multiply-scattered colour is c in (0, 1], for azimuthal roughness beta_n in [0, 1].
