@@ -1,7 +1,7 @@
 # test_fuzz.sh: builds every libFuzzer target (test/fuzz/build.sh, into <build dir>/fuzz) and runs
 # each briefly on a copy of its seed corpus (test/fuzz/corpus/<target>/), one PASS/FAIL line per
 # target. SKIP lines when clang-15 is missing. FUZZ_SECONDS sets the time per target: default 2
-# (it was 3 with six targets; thirteen targets x 2 s plus an incremental build stay around 35 s
+# (it was 3 with six targets; thirteen targets x 2 s plus an up-to-date build take about 45 s
 # on the 2-core machine).
 . test/cli/lib.sh
 FB=${FUZZ_BUILD:-$(dirname "$SL")/fuzz}
