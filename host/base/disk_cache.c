@@ -132,6 +132,19 @@ static void head_pack(unsigned char *h, uint32_t format, sl_cache_key key, uint6
     put_u64(h + 40, hash);
 }
 
+/* Why header h (of an entry whose file is file_bytes long) is not an entry of this format and
+ * key with a payload of at most max_payload bytes; NULL when it is. */
+static const char *head_why(const unsigned char *h, uint64_t file_bytes, uint32_t format,
+                            sl_cache_key key, size_t max_payload) {
+    if (memcmp(h, cache_magic, 8) != 0) return "not a cache entry of this version";
+    if (get_u32(h + 8) != format) return "another payload format";
+    if (get_u64(h + 16) != key.a || get_u64(h + 24) != key.b) return "another key";
+    if (get_u64(h + 32) > max_payload) return "payload larger than expected";
+    if (file_bytes != HEAD_BYTES + get_u64(h + 32))
+        return "truncated or extended (length does not match its header)";
+    return NULL;
+}
+
 /* Opens path and checks everything but the payload hash; returns the open file (positioned at
  * the payload) with the payload length and stored hash, or NULL with *rc = 1 (no entry) or -1
  * (rejected, e set). */
@@ -154,16 +167,8 @@ static FILE *head_open(const char *path, uint32_t format, sl_cache_key key, size
         why = "not a regular file";
     else if (fread(h, 1, sizeof h, fp) != sizeof h)
         why = "shorter than a cache header";
-    else if (memcmp(h, cache_magic, 8) != 0)
-        why = "not a cache entry of this version";
-    else if (get_u32(h + 8) != format)
-        why = "another payload format";
-    else if (get_u64(h + 16) != key.a || get_u64(h + 24) != key.b)
-        why = "another key";
-    else if (get_u64(h + 32) > max_payload)
-        why = "payload larger than expected";
-    else if ((uint64_t)st.st_size != HEAD_BYTES + get_u64(h + 32))
-        why = "truncated or extended (length does not match its header)";
+    else
+        why = head_why(h, (uint64_t)st.st_size, format, key, max_payload);
     if (why) {
         sl_fail(e, "%s: %s", path, why);
         fclose(fp);
@@ -173,6 +178,23 @@ static FILE *head_open(const char *path, uint32_t format, sl_cache_key key, size
     *hash = get_u64(h + 40);
     *rc = 0;
     return fp;
+}
+
+int sl_cache_parse(const void *entry, size_t entry_size, const char *name, uint32_t format,
+                   sl_cache_key key, size_t max_payload, const void **payload, size_t *size,
+                   sl_err *e) {
+    *payload = NULL;
+    *size = 0;
+    const unsigned char *h = entry;
+    const char *why = entry_size < HEAD_BYTES
+                          ? "shorter than a cache header"
+                          : head_why(h, (uint64_t)entry_size, format, key, max_payload);
+    if (!why && sl_cache_hash(h + HEAD_BYTES, entry_size - HEAD_BYTES) != get_u64(h + 40))
+        why = "payload hash mismatch (corrupt)";
+    if (why) return sl_fail(e, "%s: %s", name, why);
+    *payload = h + HEAD_BYTES;
+    *size = entry_size - HEAD_BYTES;
+    return 0;
 }
 
 /* ---------------------------------------------------------------- read */

@@ -67,6 +67,13 @@ int sl_cache_write(const char *path, uint32_t format, sl_cache_key key, const sl
 int sl_cache_read(const char *path, uint32_t format, sl_cache_key key, size_t max_payload,
                   void **payload, size_t *size, sl_err *e);
 
+/* The checks of sl_cache_read on an entry already in memory (the whole file, entry_size bytes;
+ * no I/O): 0 with *payload pointing into entry and *size its length, or -1 with e (may be NULL)
+ * saying why ("NAME: why"; *payload NULL). Fuzzed by test/fuzz/fuzz_cache.c. */
+int sl_cache_parse(const void *entry, size_t entry_size, const char *name, uint32_t format,
+                   sl_cache_key key, size_t max_payload, const void **payload, size_t *size,
+                   sl_err *e);
+
 /* Header check only (no payload read, no hash): 1 when path holds an entry of this format and
  * key whose payload is `payload_size` bytes and whose file has exactly that length. A cheap
  * "would a read probably hit" for planners; sl_cache_read still verifies the hash. */

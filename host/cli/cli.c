@@ -30,12 +30,16 @@ int cli_opt(int argc, char **argv, int *i, const char *name, const char **value,
 int cli_is_help(const char *arg) { return strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0; }
 
 int cli_usage_error(const char *cmd, const char *fmt, ...) {
+    /* The message quotes arguments, which may hold a newline or other control bytes: those are
+     * printed as '?' so that the error stays one line (found by test/fuzz/fuzz_cli.c). */
+    char msg[1024];
     va_list ap;
     va_start(ap, fmt);
-    fprintf(stderr, "strandlight %s: ", cmd);
-    vfprintf(stderr, fmt, ap);
-    fprintf(stderr, " (see 'strandlight %s --help')\n", cmd);
+    vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
+    for (char *c = msg; *c; c++)
+        if ((unsigned char)*c < 0x20 || *c == 0x7f) *c = '?';
+    fprintf(stderr, "strandlight %s: %s (see 'strandlight %s --help')\n", cmd, msg, cmd);
     return 2;
 }
 

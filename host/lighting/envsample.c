@@ -227,8 +227,15 @@ int sl_envlights_load(const char *path, sl_envlights *out, sl_err *e) {
     unsigned char *data;
     size_t size;
     if (sl_read_file(path, &data, &size, (size_t)256 << 20, e)) return -1;
-    cJSON *root = sl_json_parse((const char *)data, size, path, e);
+    int rc = sl_envlights_parse((const char *)data, size, path, out, e);
     free(data);
+    return rc;
+}
+
+int sl_envlights_parse(const char *text, size_t len, const char *path, sl_envlights *out,
+                       sl_err *e) {
+    memset(out, 0, sizeof *out);
+    cJSON *root = sl_json_parse(text, len, path, e);
     if (!root) return -1;
     int rc = -1;
     static const char *const top_keys[] = {"lights", "sample", NULL};

@@ -41,6 +41,10 @@ int sl_envsample(const sl_envmap *map, int n, double conv_lambda, int threads, s
 int sl_envlights_save(const char *path, const sl_envlights *l, sl_err *e);
 /* Reads and validates a lights file ("lights[3].rgb[1]: expected a finite number >= 0"). */
 int sl_envlights_load(const char *path, sl_envlights *out, sl_err *e);
+/* The same from memory (len bytes, no NUL needed; path names the file in messages): no I/O,
+ * fuzzed by test/fuzz/fuzz_lights.c. On failure *out is zeroed. */
+int sl_envlights_parse(const char *text, size_t len, const char *path, sl_envlights *out,
+                       sl_err *e);
 void sl_envlights_free(sl_envlights *l);
 
 #endif

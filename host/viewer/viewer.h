@@ -154,6 +154,11 @@ typedef struct sl_viewer_host {
     int (*screenshot)(sl_viewer *v, const char *path, int whole_window, sl_err *e);
 } sl_viewer_host;
 int sl_viewer_run_script(sl_viewer *v, const char *path, const sl_viewer_host *host, sl_err *e);
+/* The same on a script already in memory (len bytes, no NUL needed; path names it in errors):
+ * the reading of lines is separate from the file I/O so that test/fuzz/fuzz_viewer_script.c
+ * can drive it. */
+int sl_viewer_run_script_text(sl_viewer *v, const char *text, size_t len, const char *path,
+                              const sl_viewer_host *host, sl_err *e);
 /* One script line (comment already stripped); `where` prefixes errors ("s.txt:3"). */
 int sl_viewer_command(sl_viewer *v, char *line, const char *where, const sl_viewer_host *host,
                       sl_err *e);

@@ -181,10 +181,17 @@ int sl_viewer_run_script(sl_viewer *v, const char *path, const sl_viewer_host *h
     unsigned char *text = NULL;
     size_t len = 0;
     if (sl_read_file(path, &text, &len, 16u << 20, e)) return -1;
+    int rc = sl_viewer_run_script_text(v, (const char *)text, len, path, host, e);
+    free(text);
+    return rc;
+}
+
+int sl_viewer_run_script_text(sl_viewer *v, const char *text, size_t len, const char *path,
+                              const sl_viewer_host *host, sl_err *e) {
     int rc = 0, lineno = 0;
-    char *p = (char *)text, *end = p + len;
+    const char *p = text, *end = p + len;
     while (p < end && !v->quit && rc == 0) {
-        char *nl = memchr(p, '\n', (size_t)(end - p));
+        const char *nl = memchr(p, '\n', (size_t)(end - p));
         size_t n = nl ? (size_t)(nl - p) : (size_t)(end - p);
         char line[4096];
         lineno++;
@@ -205,6 +212,5 @@ int sl_viewer_run_script(sl_viewer *v, const char *path, const sl_viewer_host *h
         rc = sl_viewer_command(v, line, where, host, e);
         p += n + 1;
     }
-    free(text);
     return rc;
 }

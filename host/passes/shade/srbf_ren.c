@@ -9,6 +9,7 @@
 #include "passes/shade/srbf_ren.h"
 
 #include "base/disk_cache.h"
+#include "passes/shade/srbf_cache_payload.h"
 #include "base/parallel.h"
 
 #include "srbf_c.h"
@@ -311,13 +312,6 @@ static int build(sl_device *dev, const sl_material *m, const sl_srbf_ren_params 
  * (base/disk_cache.h adds the key and the integrity hash). Bump when this layout changes. */
 #define REN_FORMAT 2u
 
-typedef struct ren_meta {
-    uint64_t n_floats;
-    sl_srbf_ren_dims dims;
-    double build_s, err_median, err_p95, err_max;
-    char built_on[256];
-} ren_meta;
-
 static uint64_t ren_key(const sl_material *m, const sl_srbf_ren_params *p,
                         const sl_srbf_tables *ft) {
     uint64_t tab = sl_hash64(ft->C, SL_SRBF_C_FLOATS * sizeof(float), 1);
@@ -334,36 +328,19 @@ static uint64_t ren_key(const sl_material *m, const sl_srbf_ren_params *p,
 }
 
 static int try_load(sl_srbf_ren *t, const char *path) {
-    ren_meta h;
     const size_t nT = t->n_floats * sizeof(float);
     void *data = NULL;
     size_t n = 0;
-    if (sl_cache_read(path, REN_FORMAT, (sl_cache_key){t->key, 0}, sizeof h + nT, &data, &n, NULL))
+    if (sl_cache_read(path, REN_FORMAT, (sl_cache_key){t->key, 0}, sizeof(sl_srbf_ren_meta) + nT,
+                      &data, &n, NULL))
         return -1;
-    const unsigned char *d = data;
-    int ok = n == sizeof h + nT;
-    if (ok) {
-        memcpy(&h, d, sizeof h);
-        ok = h.n_floats == t->n_floats && memcmp(&h.dims, &t->dims, sizeof h.dims) == 0;
-    }
-    if (ok) {
-        t->T = sl_malloc(nT);
-        memcpy(t->T, d + sizeof h, nT);
-    }
+    int rc = sl_srbf_ren_from_payload(t, data, n);
     free(data);
-    if (!ok) return -1;
-    t->build_s = h.build_s;
-    t->err_median = h.err_median;
-    t->err_p95 = h.err_p95;
-    t->err_max = h.err_max;
-    memcpy(t->built_on, h.built_on, sizeof t->built_on);
-    t->built_on[sizeof t->built_on - 1] = 0;
-    t->from_cache = 1;
-    return 0;
+    return rc;
 }
 
 static void save(const sl_srbf_ren *t) {
-    ren_meta h;
+    sl_srbf_ren_meta h;
     memset(&h, 0, sizeof h);
     h.n_floats = t->n_floats;
     h.dims = t->dims;
@@ -487,7 +464,7 @@ int sl_srbf_ren_cached(const sl_material *m, const sl_srbf_ren_params *p_in,
     size_t n_floats = warp_floats(&p) + 9 * (size_t)p.n_h * p.n_t * p.n_phi * p.n_lambda;
     return sl_cache_path(path, sizeof path, dir, "srbf-ren", (sl_cache_key){key, 0}, REN_FORMAT) &&
            sl_cache_probe(path, REN_FORMAT, (sl_cache_key){key, 0},
-                          sizeof(ren_meta) + n_floats * sizeof(float));
+                          sizeof(sl_srbf_ren_meta) + n_floats * sizeof(float));
 }
 
 void sl_srbf_ren_free(sl_srbf_ren *t) {

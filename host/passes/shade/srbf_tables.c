@@ -12,6 +12,7 @@
 #include "passes/shade/srbf_tables.h"
 
 #include "base/disk_cache.h"
+#include "passes/shade/srbf_cache_payload.h"
 #include "cl/clrt.h"
 #include "fiber_common_d.h"
 #include "srbf_c.h"
@@ -526,10 +527,6 @@ void sl_srbf_tables_free(sl_srbf_tables *t) {
  * and the integrity hash). Bump when this layout changes; the contents are tables_key's. */
 #define TABLES_FORMAT 5u
 
-typedef struct tables_meta {
-    double build_s_C, build_s_H, err_C, err_H, build_s_W, err_W, err_D, err_Ch_x, err_Ch_s;
-} tables_meta;
-
 /* Hash of everything that defines the tables' contents. */
 static uint64_t tables_key(void) {
     char def[1024];
@@ -551,42 +548,18 @@ static uint64_t tables_key(void) {
 }
 
 static int try_load(sl_srbf_tables *t, const char *path, uint64_t key) {
-    const size_t nC = SL_SRBF_C_FLOATS * sizeof(float), nH = SL_SRBF_H_FLOATS * sizeof(float),
-                 nD = SL_SRBF_DEON_FLOATS * sizeof(float);
+    const size_t want = sl_srbf_tables_payload_bytes();
     void *data = NULL;
     size_t n = 0;
-    tables_meta h;
-    if (sl_cache_read(path, TABLES_FORMAT, (sl_cache_key){key, 0}, sizeof h + nC + nH + nD, &data,
-                      &n, NULL))
+    if (sl_cache_read(path, TABLES_FORMAT, (sl_cache_key){key, 0}, want, &data, &n, NULL))
         return -1;
-    if (n != sizeof h + nC + nH + nD) {
-        free(data);
-        return -1;
-    }
-    const unsigned char *d = data;
-    memcpy(&h, d, sizeof h);
-    t->C = sl_malloc(nC);
-    t->H = sl_malloc(nH);
-    t->D = sl_malloc(nD);
-    memcpy(t->C, d + sizeof h, nC);
-    memcpy(t->H, d + sizeof h + nC, nH);
-    memcpy(t->D, d + sizeof h + nC + nH, nD);
+    int rc = sl_srbf_tables_from_payload(t, data, n);
     free(data);
-    t->build_s_C = h.build_s_C;
-    t->build_s_H = h.build_s_H;
-    t->err_C = h.err_C;
-    t->err_H = h.err_H;
-    t->build_s_W = h.build_s_W;
-    t->err_W = h.err_W;
-    t->err_D = h.err_D;
-    t->err_Ch_x = h.err_Ch_x;
-    t->err_Ch_s = h.err_Ch_s;
-    t->from_cache = 1;
-    return 0;
+    return rc;
 }
 
 static void save(const sl_srbf_tables *t, const char *path, uint64_t key) {
-    tables_meta h;
+    sl_srbf_tables_meta h;
     memset(&h, 0, sizeof h);
     h.build_s_C = t->build_s_C;
     h.build_s_H = t->build_s_H;

@@ -68,9 +68,13 @@ cJSON *sl_ref_json_read(const char *path) {
     unsigned char *data = NULL;
     size_t size = 0;
     if (sl_read_file(path, &data, &size, 1 << 20, NULL)) return NULL;
-    cJSON *root = cJSON_ParseWithLength((const char *)data, size);
+    cJSON *root = sl_ref_json_parse(data, size);
     free(data);
     return root;
+}
+
+cJSON *sl_ref_json_parse(const void *data, size_t size) {
+    return cJSON_ParseWithLength((const char *)data, size);
 }
 
 int sl_ref_scene_load(const sl_scene *s, int width, int height, sl_hair *hair, sl_camera *cam,

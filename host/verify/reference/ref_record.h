@@ -38,6 +38,9 @@ int sl_ref_json_write(const char *path, cJSON *root, sl_err *e);
 
 /* Reads and parses a JSON record of at most 1 MiB; NULL when missing or malformed. */
 cJSON *sl_ref_json_read(const char *path);
+/* The parse of a record already in memory (size bytes, no NUL needed); NULL when malformed.
+ * No I/O: fuzzed, with the key and digest checks below, by test/fuzz/fuzz_ref_record.c. */
+cJSON *sl_ref_json_parse(const void *data, size_t size);
 
 /* Hair, camera and per-strand sigma_a through the loader `render` uses (scene_inputs.h: the
  * same framing, the same width/height overrides, 0 for the scene's, material.strand_sigma_a

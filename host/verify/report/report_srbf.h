@@ -33,6 +33,10 @@ void sl_srbf_exact_compute(const sl_srbf_config *cfg, int n, int progress, sl_sr
  * (else an error naming the file and line). */
 int sl_srbf_exact_read(const char *path, const sl_srbf_config *cfg, int n, sl_srbf_exact *out,
                        sl_err *e);
+/* The reading from memory (len bytes, no NUL needed; path names the file in messages). No I/O;
+ * fuzzed by test/fuzz/fuzz_report_exact.c. */
+int sl_srbf_exact_parse(const char *text, size_t len, const char *path, const sl_srbf_config *cfg,
+                        int n, sl_srbf_exact *out, sl_err *e);
 int sl_srbf_exact_write(const char *path, const sl_srbf_exact *x, int n, sl_err *e);
 
 /* Error statistics of one method on the sample: err[t] of mode t (3: total I). */
