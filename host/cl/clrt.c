@@ -622,6 +622,14 @@ cl_device_id sl_cl_device_id(sl_cl *cl) {
 const char *sl_cl_device_name(const sl_cl *cl) {
     return cl ? cl->device_name : "";
 }
+void sl_cl_identity(const sl_cl *cl, char *out, size_t out_size) {
+    if (!cl) {
+        snprintf(out, out_size, "C path");
+        return;
+    }
+    snprintf(out, out_size, "%s|%s|%s|%s", cl->platform_name, cl->platform_version, cl->device_name,
+             cl->driver_version);
+}
 int sl_cl_is_gpu(const sl_cl *cl) {
     return cl && cl->is_gpu;
 }
@@ -712,7 +720,9 @@ int sl_cl_fault(void) {
 static atomic_int lost_enqueues;
 static atomic_ulong kernels_enqueued; /* successful kernel enqueues (sl_cl_kernels_enqueued) */
 
-unsigned long sl_cl_kernels_enqueued(void) { return atomic_load(&kernels_enqueued); }
+unsigned long sl_cl_kernels_enqueued(void) {
+    return atomic_load(&kernels_enqueued);
+}
 
 typedef cl_int (*ndrange_fn)(cl_command_queue, cl_kernel, cl_uint, const size_t *, const size_t *,
                              const size_t *, cl_uint, const cl_event *, cl_event *);
@@ -757,7 +767,9 @@ CL_API_ENTRY cl_int CL_API_CALL clEnqueueReadBuffer(cl_command_queue q, cl_mem b
     return real(q, buf, blocking, offset, size, ptr, nwait, wait, ev);
 }
 
-size_t sl_cl_round_up(size_t x, size_t m) { return (x + m - 1) / m * m; }
+size_t sl_cl_round_up(size_t x, size_t m) {
+    return (x + m - 1) / m * m;
+}
 
 int sl_cl_run1d(sl_cl *cl, cl_kernel k, const char *name, size_t n, size_t local,
                 sl_cl_timer *timer, sl_err *e) {
