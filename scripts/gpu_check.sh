@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # gpu_check.sh [--smoke] [--no-build] [--build DIR] [--scene FILE] [--out FILE]: the GPU check of
 # issue 20 (`make gpu-check`), one script under 5 minutes:
-#   1. builds (make all into DIR, default build; --no-build: use $SL, else DIR/strandlight);
+#   1. builds (make all into DIR, relative to the repository, default build; --no-build: use $SL,
+#      else DIR/strandlight);
 #   2. picks the device: the first GPU OpenCL device (`--device gpu`), else, or with --smoke,
 #      the PoCL CPU device (`--device pocl`);
 #   3. runs `strandlight kernels --check` on it (every kernel against its C twin, then the
@@ -16,6 +17,7 @@
 #      when it ran for real on a GPU, or into --out FILE when given. Smoke runs (PoCL) and runs
 #      without a GPU print the block and write nothing in docs/.
 # Never part of the build or of `make test` except as test/cli/test_gpu_check.sh's smoke run.
+# Step limits (s): GPU_CHECK_BUILD_S (120), GPU_CHECK_KERNELS_S (90), GPU_CHECK_RENDER_S (80).
 # Exit status: 0 all passed; 1 a step failed (build, a kernel check, the render, a step past its
 # time limit); 2 usage; 3 no device for the mode (no GPU and no PoCL device).
 set -u
@@ -31,13 +33,18 @@ while [ $# -gt 0 ]; do
     --build) [ $# -ge 2 ] || usage; BUILD=$2; shift ;;
     --scene) [ $# -ge 2 ] || usage; SCENE=$2; shift ;;
     --out) [ $# -ge 2 ] || usage; OUT=$2; shift ;;
-    -h | --help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
     *) echo "gpu_check: unknown option '$1'" >&2; usage ;;
     esac
     shift
 done
-cd "$(dirname "$0")/.." || exit 1
 if [ -n "$SCENE" ] && [ ! -f "$SCENE" ]; then echo "gpu_check: --scene $SCENE: no such file" >&2; exit 2; fi
+# paths given from the caller's directory stay valid after the cd to the repository
+[ -n "$SCENE" ] && SCENE=$(realpath "$SCENE")
+[ -n "$OUT" ] && OUT=$(realpath -m "$OUT")
+[ -n "${SL:-}" ] && SL=$(realpath -m "$SL")
+cd "$(dirname "$0")/.." || exit 1
+SCENE=${SCENE#"$PWD/"} # a scene inside the repository is named as the docs name it
 if [ -x /usr/bin/python3 ]; then PY=/usr/bin/python3; else PY=python3; fi
 T0=$SECONDS
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/gpu_check.XXXXXX") || exit 1
