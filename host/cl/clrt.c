@@ -720,9 +720,7 @@ int sl_cl_fault(void) {
 static atomic_int lost_enqueues;
 static atomic_ulong kernels_enqueued; /* successful kernel enqueues (sl_cl_kernels_enqueued) */
 
-unsigned long sl_cl_kernels_enqueued(void) {
-    return atomic_load(&kernels_enqueued);
-}
+unsigned long sl_cl_kernels_enqueued(void) { return atomic_load(&kernels_enqueued); }
 
 typedef cl_int (*ndrange_fn)(cl_command_queue, cl_kernel, cl_uint, const size_t *, const size_t *,
                              const size_t *, cl_uint, const cl_event *, cl_event *);
@@ -767,9 +765,7 @@ CL_API_ENTRY cl_int CL_API_CALL clEnqueueReadBuffer(cl_command_queue q, cl_mem b
     return real(q, buf, blocking, offset, size, ptr, nwait, wait, ev);
 }
 
-size_t sl_cl_round_up(size_t x, size_t m) {
-    return (x + m - 1) / m * m;
-}
+size_t sl_cl_round_up(size_t x, size_t m) { return (x + m - 1) / m * m; }
 
 int sl_cl_run1d(sl_cl *cl, cl_kernel k, const char *name, size_t n, size_t local,
                 sl_cl_timer *timer, sl_err *e) {
