@@ -28,7 +28,7 @@ LIB_OBJ := $(LIB_C:%.c=$(BUILD)/%.o) $(LIB_CXX:%.cpp=$(BUILD)/%.o)
 TEST_OBJ := $(TEST_C:%.c=$(BUILD)/%.o)
 $(TEST_OBJ): CPPFLAGS += -Itest
 
-.PHONY: all deps run test test-farm asan bench fuzz format clean
+.PHONY: all deps run test test-farm asan bench gpu-check fuzz format clean
 all: $(BUILD)/strandlight $(BUILD)/unit_tests
 
 $(BUILD)/libstrandlight.a: $(LIB_OBJ)
@@ -71,6 +71,12 @@ test-farm: all
 
 bench: all
 	bash test/bench/bench.sh $(BUILD)
+
+# The GPU check (issue 20, docs/performance.md "GPU check"): builds, then kernels --check and the
+# goal scene's frames on the first GPU OpenCL device, figures into docs/performance.md; without a
+# GPU a smoke run on PoCL that writes nothing. Never a prerequisite of all or test.
+gpu-check:
+	bash scripts/gpu_check.sh --build $(BUILD)
 
 # Builds every libFuzzer target (build-fuzz/); with FUZZ_SECONDS=N also runs each for N s on a
 # copy of its seed corpus (test/cli/test_fuzz.sh) and fails when any target finds a crash.

@@ -622,6 +622,14 @@ cl_device_id sl_cl_device_id(sl_cl *cl) {
 const char *sl_cl_device_name(const sl_cl *cl) {
     return cl ? cl->device_name : "";
 }
+void sl_cl_identity(const sl_cl *cl, char *out, size_t out_size) {
+    if (!cl) {
+        snprintf(out, out_size, "C path");
+        return;
+    }
+    snprintf(out, out_size, "%s|%s|%s|%s", cl->platform_name, cl->platform_version, cl->device_name,
+             cl->driver_version);
+}
 int sl_cl_is_gpu(const sl_cl *cl) {
     return cl && cl->is_gpu;
 }

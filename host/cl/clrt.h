@@ -75,6 +75,9 @@ cl_device_id sl_cl_device_id(sl_cl *cl);
 
 /* Device facts captured at open time. */
 const char *sl_cl_device_name(const sl_cl *cl);
+/* "platform name|platform version|device name|driver version": what identifies a device across
+ * runs, for caches of per-device measurements (host/plan/auto_device.h). */
+void sl_cl_identity(const sl_cl *cl, char *out, size_t out_size);
 int sl_cl_is_gpu(const sl_cl *cl);
 int sl_cl_has_fp64(const sl_cl *cl);
 size_t sl_cl_max_work_group_size(const sl_cl *cl);

@@ -7,6 +7,7 @@
 #include "scene/camera.h"
 #include "cli/cli.h"
 #include "cl/clrt.h"
+#include "plan/auto_device.h"
 #include "plan/frame.h"
 #include "io/hair/hair.h"
 #include "io/image/image_write.h"
@@ -322,6 +323,10 @@ int cmd_render(int argc, char **argv) {
     const sl_lobes *lobes = &in.lobes;
     const double *target = in.target;
     const sl_camera cam0 = in.cam;
+    /* --device auto on a CPU OpenCL device: C or the device, whichever a trial on a proxy of
+     * this scene found faster (measured once, cached; host/plan/auto_device.h) */
+    sl_auto_choice choice;
+    sl_auto_device_settle(&dev, s, h, lobes, in.lo, in.hi, target, &ro, &choice);
     r = sl_renderer_create(&dev, &ro);
     /* material.strand_sigma_a: per-strand absorption (docs/formats.md) */
     if (in.strand_sigma_a &&
@@ -373,6 +378,12 @@ int cmd_render(int argc, char **argv) {
         if (wrc) goto done;
         if (explain) {
             if (orbit) printf("frame %ld\n", f);
+            if (f == fa && choice.why[0]) /* the device choice, once, as a row of the plan */
+                printf("%-10s %-8s %8.3fs  %s\n", "device",
+                       choice.state == SL_AUTO_CACHED ? "cached"
+                       : choice.state == SL_AUTO_NONE ? "skipped"
+                                                      : "run",
+                       choice.seconds, choice.why);
             sl_renderer_explain(r, stdout);
             fflush(stdout);
         }
