@@ -72,3 +72,13 @@ no_leftovers() {
     local name=$1 dir=$2
     if ls "$dir" 2>/dev/null | grep -q '\.tmp'; then fail "$name" "temporary files left in $dir"; else pass "$name"; fi
 }
+
+# white_hdr FILE W H: a W x H Radiance map of one constant white (flat RGBE 128 128 128 129 =
+# 1.0 per channel): the neutral map of the colour and furnace checks.
+white_hdr() {
+    local n=$(($2 * $3)) i
+    {
+        printf '#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n' "$3" "$2"
+        for ((i = 0; i < n; i++)); do printf '\200\200\200\201'; done
+    } > "$1"
+}

@@ -14,13 +14,7 @@ fi
 D="$TMP/strand_ms"
 rm -rf "$D"; mkdir -p "$D"
 "$PY" test/cli/colour_hair.py "$D/blond.hair" 1500 0.02 1.0 0.925 0.569
-"$PY" - "$D/white.hdr" <<'EOF'
-import sys
-w, h = 64, 32
-with open(sys.argv[1], "wb") as f:
-    f.write(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" % (h, w))
-    f.write(bytes([128, 128, 128, 129]) * (w * h))
-EOF
+white_hdr "$D/white.hdr" 64 32
 # sigma_a of the colour (docs/formats.md: Chiang Eq. 9 with bn = the radial roughness 0.3)
 sa=$("$PY" - <<'EOF'
 import math

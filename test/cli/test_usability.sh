@@ -14,13 +14,7 @@ export SL_CACHE_DIR="$D/cache" # fitted lobes and tables built here, never found
 PY=/usr/bin/python3; [ -x "$PY" ] || PY=python3
 
 # a 16x8 Radiance HDR of one constant white (RGBE 128,128,128,129 = 1.0): the neutral map
-"$PY" - "$D/white.hdr" <<'PYEOF'
-import sys
-w, h = 16, 8
-with open(sys.argv[1], "wb") as f:
-    f.write(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" % (h, w))
-    f.write(bytes([128, 128, 128, 129]) * (w * h))
-PYEOF
+white_hdr "$D/white.hdr" 16 8
 
 # hue_check NAME "FILE R G B" "RENDERED R G B": the rendered mean's HSV hue and saturation
 hue_check() {
