@@ -1,0 +1,65 @@
+# test_physical.sh: the frame's physical checks that need no reference (DEVELOPERS.md,
+# issue 19): a white furnace (constant white map, non-absorbing d'Eon fibers: every fiber should
+# vanish into the background, mean colour / coverage = 1) and lobe-cut invariance (the same light
+# cut into other lobes must give the same image). Procedural wavy hair, 4000 strands, 96 x 72,
+# C path, multiple scattering on. Figures: `strandlight compare A.exr B.exr --csv` (docs/results.md,
+# "Physical checks of the frame").
+. test/cli/lib.sh
+D="$TMP/physical"
+rm -rf "$D"; mkdir -p "$D"
+white_hdr "$D/white.hdr" 64 32
+scene() { # scene NAME ENVIRONMENT
+    cat > "$D/$1.json" <<JSON
+{"hair": {"procedural": {"style": "wavy", "strands": 4000, "points": 16, "seed": 1}, "radius": 0.04},
+ "material": {"model": "deon", "sigma_a": [0, 0, 0]},
+ "environment": $2,
+ "image": {"width": 96, "height": 72},
+ "quality": {"lobes": 24, "multiple_scattering": "on"}}
+JSON
+    "$SL" render "$D/$1.json" --exr "$D/$1.exr" --device c 2>/dev/null
+}
+# the near-uniform light of the white map: one lobe of lambda 10 (G falls to 0.98 opposite its
+# axis; rgb so that its power is the map's 4 pi), or two coincident halves of it
+echo '{"lobes": [{"dir": [0, 1, 0], "lambda": 10, "rgb": [1.0101, 1.0101, 1.0101]}]}' > "$D/one.json.lobes"
+echo '{"lobes": [{"dir": [0, 1, 0], "lambda": 10, "rgb": [0.50505, 0.50505, 0.50505]}, {"dir": [0, 1, 0], "lambda": 10, "rgb": [0.50505, 0.50505, 0.50505]}]}' > "$D/two.json.lobes"
+# a narrow coloured lobe and a broad one; then the narrow one cut into two coincident lobes of
+# other colours that sum to it
+echo '{"lobes": [{"dir": [0, 1, 0], "lambda": 0.2, "rgb": [3, 2, 1]}, {"dir": [0.6, 0, 0.8], "lambda": 0.5, "rgb": [1, 1, 1]}]}' > "$D/na.json.lobes"
+echo '{"lobes": [{"dir": [0, 1, 0], "lambda": 0.2, "rgb": [1, 1, 0.5]}, {"dir": [0.6, 0, 0.8], "lambda": 0.5, "rgb": [1, 1, 1]}, {"dir": [0, 1, 0], "lambda": 0.2, "rgb": [2, 1, 0.5]}]}' > "$D/nb.json.lobes"
+scene fit '{"file": "white.hdr"}'
+for n in one two na nb; do scene "$n" "{\"lobes\": \"$n.json.lobes\"}"; done
+
+csv() { "$SL" compare "$1" "$2" --csv 2>/dev/null; }
+field() { awk -F, -v k="$1" -v c="$2" '$1 == k {print $c}'; } # field KEY COLUMN < csv
+within() { awk -v x="$1" -v lo="$2" -v hi="$3" 'BEGIN {exit !(x >= lo && x <= hi)}'; }
+
+# White furnace: mean premultiplied colour / mean coverage over hair pixels. Target 1 within 5 %
+# (issue 19); measured 0.970 here. Denser hair is darker (8000 strands at 160 x 120: 0.78,
+# docs/results.md: the local multiple scattering of dense hair is short), so this guards the
+# sparse-to-medium case within 8 %.
+c=$(csv "$D/fit.exr" "$D/fit.exr")
+m=$(printf '%s\n' "$c" | field mean_ours 2); a=$(printf '%s\n' "$c" | field mean_alpha_ours 5)
+r=$(awk -v m="$m" -v a="$a" 'BEGIN {if (a > 0) printf "%.4f", m / a}')
+if [ -n "$r" ] && within "$r" 0.92 1.08; then pass physical_white_furnace
+else fail physical_white_furnace "mean / coverage '$r' (m '$m', a '$a'), want 1 within 0.08"; fi
+
+# A narrow lobe cut into two coincident lobes of other colours: every pass sees the same
+# directions, so the image is the same up to float rounding of the sums and the per-point lobe
+# threshold: measured per-pixel rel. RMSE 0.009; checked at 0.03.
+e=$(csv "$D/nb.exr" "$D/na.exr" | field rel_rmse_px_raw 5)
+if [ -n "$e" ] && within "$e" 0 0.03; then pass physical_lobe_cut_narrow
+else fail physical_lobe_cut_narrow "per-pixel rel. RMSE '$e', want <= 0.03"; fi
+
+# The near-uniform light as one broad lobe, as two coincident halves, and as the 24 lobes fitted
+# to the white map: mean colour within 3 % (issue 19's target; measured 0.997 and 0.989), 8 x 8
+# blocks within 0.12 and 0.15 (measured 0.062 and 0.087). Per pixel they differ more (0.10 and
+# 0.17): a broad lobe's sub-lobes are allotted per lobe (12 for one, 6 each for two halves,
+# host/lighting/lobe_subdivide.h), so the cut changes the sub-lobe set; open in issue 19.
+for p in "one fit 0.12" "two one 0.15"; do
+    set -- $p
+    c=$(csv "$D/$1.exr" "$D/$2.exr")
+    q=$(printf '%s\n' "$c" | field ratio 2); b=$(printf '%s\n' "$c" | field rel_rmse_blocks_raw 5)
+    if [ -n "$q" ] && [ -n "$b" ] && within "$q" 0.97 1.03 && within "$b" 0 "$3"; then
+        pass "physical_lobe_cut_broad_$1_$2"
+    else fail "physical_lobe_cut_broad_$1_$2" "mean ratio '$q' (want 1 within 0.03), 8x8 blocks '$b' (want <= $3)"; fi
+done
