@@ -6,6 +6,7 @@
  * sweep (sl_kernel_extreme); --bench: the same rows with the best C and OpenCL times. Without
  * either: the compact table with times that scripts and tests read. */
 #include "cli/cli.h"
+#include "base/text_wrap.h"
 #include "cl/clrt.h"
 #include "verify/checks/kernel_checks.h"
 
@@ -121,16 +122,23 @@ static void table(const sl_device *dev, const sl_kernel_check *checks, size_t n,
         printf("%-*s%s", c + 1 < KCOLS ? wd[c] : 0, head[c], c + 1 < KCOLS ? " " : "");
     if (bench) printf(" %9s %9s %9s", "C_ms", "CL_ms", "CL_wall");
     printf("\n");
+    /* cells are never cut; a failure's message wraps at a terminal's width (whole in a pipe) */
+    int width = sl_term_width(stdout);
     for (int k = 0; k < nr; k++) {
         const krow *w = &rows[k];
         if (w->fail_msg) {
-            printf("%-*s %-*s %s\n", wd[0], w->cell[0], wd[1], w->cell[1], w->extra);
+            printf("%-*s %-*s ", wd[0], w->cell[0], wd[1], w->cell[1]);
+            sl_put_wrapped(stdout, w->extra, wd[0] + wd[1] + 2, 4, width);
+            printf("\n");
             continue;
         }
         for (int c = 0; c < KCOLS; c++) /* the last column unpadded: no trailing blanks */
             printf("%-*s%s", c + 1 < KCOLS ? wd[c] : 0, w->cell[c], c + 1 < KCOLS ? " " : "");
         printf("%s\n", w->bench);
-        if (w->extra[0]) printf("%s\n", w->extra);
+        if (w->extra[0]) {
+            sl_put_wrapped(stdout, w->extra, 0, 4, width);
+            printf("\n");
+        }
     }
 }
 

@@ -12,6 +12,7 @@
  * transparency channel. */
 #include "plan/frame_internal.h"
 #include "base/parallel.h"
+#include "base/text_wrap.h"
 #include "lighting/lobe_subdivide.h"
 #include "passes/light/shadow_split.h"
 #include "srbf_c.h"
@@ -21,7 +22,6 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/ioctl.h>
 #include <unistd.h>
 
 void sl_render_opts_default(sl_render_opts *o) {
@@ -192,46 +192,9 @@ static const sl_pass_desc *desc_of(const char *name) {
     return NULL;
 }
 
-/* Width to wrap explain rows at: the terminal's on a terminal, else none (a file or a pipe gets
- * whole rows, for grep). */
-static int explain_width(FILE *f) {
-    if (!isatty(fileno(f))) return 0;
-    struct winsize ws;
-    if (ioctl(fileno(f), TIOCGWINSZ, &ws) == 0 && ws.ws_col >= 60) return ws.ws_col;
-    return 100;
-}
-
-/* text from column `col` on, wrapped at word boundaries to `width` (0: no wrapping), later lines
- * indented to `indent`. */
-static void put_wrapped(FILE *f, const char *text, int col, int indent, int width) {
-    if (width <= 0 || col + (int)strlen(text) <= width) {
-        fputs(text, f);
-        return;
-    }
-    const char *p = text;
-    while (*p) {
-        int room = width - col;
-        if (room < 20) room = 20;
-        int n = (int)strlen(p);
-        if (n <= room) {
-            fputs(p, f);
-            break;
-        }
-        int cut = room;
-        while (cut > 0 && p[cut] != ' ')
-            cut--;
-        if (cut == 0) cut = room; /* one long word: cut it */
-        fprintf(f, "%.*s\n%*s", cut, p, indent, "");
-        p += cut;
-        while (*p == ' ')
-            p++;
-        col = indent;
-    }
-}
-
 void sl_renderer_explain(const sl_renderer *r, FILE *f) {
     static const char *st[] = {"run", "cached", "skipped"};
-    int width = explain_width(f);
+    int width = sl_term_width(f); /* a file or a pipe gets whole rows, for grep */
     fprintf(f, "%-10s %-8s %9s  %s  [keyed on]\n", "pass", "state", "time", "why");
     for (int i = 0; i < r->npass; i++) {
         const sl_pass_desc *d = desc_of(r->pass[i].name);
@@ -240,7 +203,7 @@ void sl_renderer_explain(const sl_renderer *r, FILE *f) {
         fprintf(f, "%-10s %-8s %8.3fs  ", r->pass[i].name, st[r->pass[i].state],
                 r->pass[i].seconds);
         snprintf(rest, sizeof rest, "%s  [%s]", r->pass[i].why, keyed);
-        put_wrapped(f, rest, 31, 31, width);
+        sl_put_wrapped(f, rest, 31, 31, width);
         fputc('\n', f);
     }
     fprintf(f, "%-10s %-8s %8.3fs\n", "total", "", r->total_s);
