@@ -274,9 +274,27 @@ static float to_float(double v, sl_eval_range range) {
     return f;
 }
 
-static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, int segments,
-                     sl_cl *cl, const sl_material *m, int ch, size_t n, const double *in,
-                     double *out, sl_err *e) {
+struct sl_eval_session {
+    sl_srbf_tables tables; /* srbf xu / fast */
+    int have_tables;
+    sl_srbf_ren ren; /* srbf table */
+    int have_ren;
+};
+
+sl_eval_session *sl_eval_session_new(void) {
+    return sl_calloc(1, sizeof(sl_eval_session));
+}
+
+void sl_eval_session_free(sl_eval_session *s) {
+    if (!s) return;
+    if (s->have_tables) sl_srbf_tables_free(&s->tables);
+    if (s->have_ren) sl_srbf_ren_free(&s->ren);
+    free(s);
+}
+
+static int run_float(sl_eval_session *s, sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt,
+                     int segments, sl_cl *cl, const sl_material *m, int ch, size_t n,
+                     const double *in, double *out, sl_err *e) {
     const qdesc *d = &quantities[q];
     size_t nin = d->nin, nout = sl_eval_num_outputs(q, m);
     if (b == SL_EVAL_OPENCL && !cl) return sl_fail(e, "eval: --backend opencl needs a device");
@@ -288,14 +306,17 @@ static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, i
     if (m) sl_material_to_fiber(m, ch, &fp);
     int rc = 0;
     if (q == SL_EVAL_SRBF && mt == SL_EVAL_METHOD_TABLE) {
-        /* the table of material m (disk cache, or built on the C path), then its lookup */
-        sl_srbf_ren t;
-        rc = sl_srbf_ren_get(NULL, m, NULL, &t, e);
-        if (!rc) rc = sl_srbf_ren_eval(b == SL_EVAL_OPENCL ? cl : NULL, &t, ch, n, fin, fout, e);
-        sl_srbf_ren_free(&t); /* t is zeroed first, so this is safe after a failure too */
+        /* the table of material m (disk cache, or built on the C path; once per session), then
+         * its lookup */
+        if (!s->have_ren) {
+            rc = sl_srbf_ren_get(NULL, m, NULL, &s->ren, e);
+            s->have_ren = 1; /* ren is zeroed first, so freeing it is safe after a failure too */
+        }
+        if (!rc)
+            rc = sl_srbf_ren_eval(b == SL_EVAL_OPENCL ? cl : NULL, &s->ren, ch, n, fin, fout, e);
     } else if (q == SL_EVAL_SRBF) {
-        rc = sl_srbf_eval(b == SL_EVAL_OPENCL ? cl : NULL, m, ch, mt == SL_EVAL_METHOD_XU, segments,
-                          n, fin, fout, e);
+        rc = sl_srbf_eval_keep(b == SL_EVAL_OPENCL ? cl : NULL, m, &s->tables, &s->have_tables, ch,
+                               mt == SL_EVAL_METHOD_XU, segments, n, fin, fout, e);
     } else if (b == SL_EVAL_C) {
         switch (q) {
         case SL_EVAL_SCATTER:
@@ -368,6 +389,15 @@ int sl_eval_run(sl_eval_quantity q, sl_eval_backend b, sl_cl *cl, const sl_mater
 int sl_eval_run_method(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, int srbf_segments,
                        sl_cl *cl, const sl_material *m, int ch, size_t n, const double *in,
                        double *out, sl_err *e) {
+    sl_eval_session *s = sl_eval_session_new();
+    int rc = sl_eval_run_session(s, q, b, mt, srbf_segments, cl, m, ch, n, in, out, e);
+    sl_eval_session_free(s);
+    return rc;
+}
+
+int sl_eval_run_session(sl_eval_session *s, sl_eval_quantity q, sl_eval_backend b,
+                        sl_eval_method mt, int srbf_segments, sl_cl *cl, const sl_material *m,
+                        int ch, size_t n, const double *in, double *out, sl_err *e) {
     const char *why = sl_eval_method_unsupported(q, b, mt);
     if (why) return sl_fail(e, "eval: %s", why);
     if (!quantities[q].implemented)
@@ -377,6 +407,6 @@ int sl_eval_run_method(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt,
     if (sl_eval_check_backend(q, b, m, NULL, e)) return -1;
     if (n == 0) return 0;
     if (b == SL_EVAL_REFERENCE) return run_reference(q, m, ch, n, in, out, e);
-    return run_float(q, b, mt, srbf_segments, cl, quantities[q].uses_material ? m : NULL, ch, n, in,
-                     out, e);
+    return run_float(s, q, b, mt, srbf_segments, cl, quantities[q].uses_material ? m : NULL, ch, n,
+                     in, out, e);
 }
