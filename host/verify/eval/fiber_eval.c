@@ -6,6 +6,7 @@
 #include "chiang_ref.h"
 #include "deon_ref.h"
 #include "dual_c.h"
+#include "dual_material.h"
 #include "passes/volume/dual_cl.h"
 #include "dual_ref.h"
 #include "fiber_c.h"
@@ -279,6 +280,7 @@ struct sl_eval_session {
     int have_tables;
     sl_srbf_ren ren; /* srbf table */
     int have_ren;
+    float *dual[3]; /* ms-material: each channel's dual-scattering table (built on the backend) */
 };
 
 sl_eval_session *sl_eval_session_new(void) {
@@ -289,6 +291,8 @@ void sl_eval_session_free(sl_eval_session *s) {
     if (!s) return;
     if (s->have_tables) sl_srbf_tables_free(&s->tables);
     if (s->have_ren) sl_srbf_ren_free(&s->ren);
+    for (int ch = 0; ch < 3; ch++)
+        free(s->dual[ch]);
     free(s);
 }
 
@@ -329,7 +333,11 @@ static int run_float(sl_eval_session *s, sl_eval_quantity q, sl_eval_backend b, 
             slc_furnace_batch(&fp, n, fin, fout);
             break;
         case SL_EVAL_MS_MATERIAL:
-            slc_ms_material_batch(&fp, n, fin, fout);
+            if (!s->dual[ch]) { /* slc_ms_material_batch, its table kept for the next chunks */
+                s->dual[ch] = sl_malloc(SL_DUAL_TABLE_FLOATS * sizeof(float));
+                slc_dual_table(&fp, s->dual[ch]);
+            }
+            slc_ms_material_lookup(s->dual[ch], n, fin, fout);
             break;
         default:
             rc = sl_fail(e, "eval: %s is not implemented yet", d->name);
@@ -346,7 +354,15 @@ static int run_float(sl_eval_session *s, sl_eval_quantity q, sl_eval_backend b, 
             rc = slcl_furnace_batch(cl, &fp, n, fin, fout, e);
             break;
         case SL_EVAL_MS_MATERIAL:
-            rc = slcl_ms_material_batch(cl, &fp, n, fin, fout, e);
+            if (!s->dual[ch]) { /* slcl_ms_material_batch, its table kept for the next chunks */
+                s->dual[ch] = sl_malloc(SL_DUAL_TABLE_FLOATS * sizeof(float));
+                rc = slcl_dual_table(cl, &fp, s->dual[ch], e);
+                if (rc) {
+                    free(s->dual[ch]);
+                    s->dual[ch] = NULL;
+                }
+            }
+            if (!rc) rc = slcl_ms_material_lookup(cl, s->dual[ch], n, fin, fout, e);
             break;
         default:
             rc = sl_fail(e, "eval: %s is not implemented yet", d->name);
