@@ -280,7 +280,8 @@ struct sl_eval_session {
     int have_tables;
     sl_srbf_ren ren; /* srbf table */
     int have_ren;
-    float *dual[3]; /* ms-material: each channel's dual-scattering table (built on the backend) */
+    cl_mem ren_table; /* its copy on the OpenCL device, uploaded at the first chunk */
+    float *dual[3];   /* ms-material: each channel's dual-scattering table (built on the backend) */
 };
 
 sl_eval_session *sl_eval_session_new(void) {
@@ -290,6 +291,7 @@ sl_eval_session *sl_eval_session_new(void) {
 void sl_eval_session_free(sl_eval_session *s) {
     if (!s) return;
     if (s->have_tables) sl_srbf_tables_free(&s->tables);
+    slcl_srbf_ren_table_release(&s->ren_table);
     if (s->have_ren) sl_srbf_ren_free(&s->ren);
     for (int ch = 0; ch < 3; ch++)
         free(s->dual[ch]);
@@ -317,7 +319,8 @@ static int run_float(sl_eval_session *s, sl_eval_quantity q, sl_eval_backend b, 
             s->have_ren = 1; /* ren is zeroed first, so freeing it is safe after a failure too */
         }
         if (!rc)
-            rc = sl_srbf_ren_eval(b == SL_EVAL_OPENCL ? cl : NULL, &s->ren, ch, n, fin, fout, e);
+            rc = sl_srbf_ren_eval_keep(b == SL_EVAL_OPENCL ? cl : NULL, &s->ren, &s->ren_table, ch,
+                                       n, fin, fout, e);
     } else if (q == SL_EVAL_SRBF) {
         rc = sl_srbf_eval_keep(b == SL_EVAL_OPENCL ? cl : NULL, m, &s->tables, &s->have_tables, ch,
                                mt == SL_EVAL_METHOD_XU, segments, n, fin, fout, e);
