@@ -322,7 +322,7 @@ typedef struct eval_sink {
 static int sink_open(const eval_opts *o, eval_sink *k, sl_err *e) {
     memset(k, 0, sizeof *k);
     if (o->output) {
-        if (sl_atomic_open(&k->af, o->output, e)) return -1;
+        if (sl_make_parent_dirs(o->output, e) || sl_atomic_open(&k->af, o->output, e)) return -1;
         k->atomic = 1;
         k->fp = k->af.fp;
         return 0;
@@ -402,6 +402,15 @@ int cmd_eval(int argc, char **argv) {
     else
         snprintf(where, sizeof where, "%s: orders", o.material ? o.material : "material");
     if (mp && sl_eval_check_backend(o.q, o.backend, mp, where, &e)) return fail(&e);
+    if (o.output) { /* as render's and reference's outputs: before any work (robustness.md 5) */
+        const char *inputs[2];
+        int ni = 0;
+        if (o.material) inputs[ni++] = o.material;
+        if (o.scene) inputs[ni++] = o.scene;
+        if (sl_output_precheck(o.output, "-o", &e) ||
+            sl_output_not_input(o.output, "-o", inputs, ni, &e))
+            return fail(&e);
+    }
 
     sl_csv_reader rd;
     if (sl_csv_reader_open(&rd, stdin, "<stdin>", &e)) return fail(&e);

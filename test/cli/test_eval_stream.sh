@@ -67,13 +67,21 @@ out=$(bad | "$SL" eval deon-mp 2>/dev/null); rc=$?
 if [ "$rc" -eq 1 ] && [ -z "$out" ]; then pass eval_stream_bad_last_chunk_stdout_empty
 else fail eval_stream_bad_last_chunk_stdout_empty "exit $rc, ${#out} bytes on stdout"; fi
 
+# -o FILE: the same bytes as stdout; refused before any work over an input or a non-file
+printf 'theta_i,phi_i,theta_o,phi_o\n0.1,0.2,0.3,0.4\n' > "$D/one.csv"
+printf '{"sigma_a": [0.2, 0.4, 0.8]}\n' > "$D/rgb.json"
+"$SL" eval scatter -o "$D/sub/o.csv" < "$D/one.csv" 2>"$D/err"
+if [ "$("$SL" eval scatter < "$D/one.csv")" = "$(cat "$D/sub/o.csv" 2>/dev/null)" ]; then pass eval_stream_output_file
+else fail eval_stream_output_file "-o gave '$(cat "$D/sub/o.csv" 2>/dev/null)': $(cat "$D/err")"; fi
+expect_error eval_stream_output_is_material "is one of this run's inputs" "$SL" eval scatter -o "$D/rgb.json" --material "$D/rgb.json" < "$D/one.csv"
+expect_error eval_stream_output_not_a_file "is not a regular file" "$SL" eval scatter -o /dev/null < "$D/one.csv"
+
 # chunking changes no byte: 7-row chunks against one chunk, for quantities whose backends keep
 # state between chunks (srbf's tables, Ren's table) and an rgb material (channel-major values)
 printf 'theta_o,phi_o,theta_j,phi_j,lambda\n' > "$D/srbf.csv"
 awk 'BEGIN { for (i = 0; i < 40; i++) printf "%.3f,%.3f,%.3f,%.3f,%.2f\n", (i % 7) / 5 - 0.6, (i % 11) / 4 - 1.2, (i % 5) / 4 - 0.5, (i % 13) / 5 - 1.1, 1 + i % 9 }' >> "$D/srbf.csv"
 printf 'theta_i,phi_i,theta_o,phi_o,tag\n' > "$D/scatter.csv"
 awk 'BEGIN { for (i = 0; i < 40; i++) printf "%.3f,%.3f,%.3f,%.3f, t%d \n", (i % 7) / 5 - 0.6, (i % 11) / 4 - 1.2, (i % 5) / 4 - 0.5, (i % 13) / 5 - 1.1, i }' >> "$D/scatter.csv"
-printf '{"sigma_a": [0.2, 0.4, 0.8]}\n' > "$D/rgb.json"
 chunks_same() {
     local name=$1 in=$2; shift 2
     local a b
