@@ -96,4 +96,23 @@ chunks_same eval_stream_chunks_srbf_table "$D/srbf.csv" srbf --method table
 if have_cl; then
     chunks_same eval_stream_chunks_scatter_opencl "$D/scatter.csv" scatter --material "$D/rgb.json" --device "$SL_CL_DEVICE"
 else cl_skip eval_stream_chunks_scatter_opencl "no OpenCL device"; fi
+
+# the scene quantities keep the scene, and their light pass / march, across chunks; a lobe first
+# used in a later chunk rebuilds them for every lobe used so far, in order of first use, which
+# must give the bytes of one pass (the march's random streams are keyed by that order); the
+# reference's Monte Carlo seed is the row's index in the whole input
+if [ -x /usr/bin/python3 ]; then PY=/usr/bin/python3; else PY=python3; fi
+if command -v "$PY" >/dev/null 2>&1; then
+    "$PY" test/cli/slab_hair.py "$D/slab.hair" 200 0.005
+    printf '{"lobes": [{"dir": [0, 0, 1], "lambda": 0.05, "rgb": [1, 1, 1]}, {"dir": [0, 0.6, 0.8], "lambda": 0.05, "rgb": [1, 1, 1]}]}\n' > "$D/lobes.json"
+    printf '{"hair": {"file": "slab.hair"}, "environment": {"lobes": "lobes.json"}, "material": {"sigma_a": [0.2, 0.4, 0.8]}, "quality": {"voxels": 16, "shadow_size": 64}}\n' > "$D/scene.json"
+    { echo "x,y,z,lobe"; awk 'BEGIN { for (i = 0; i < 40; i++) printf "%.3f,%.3f,%.3f,%d\n", (i % 7) / 5 - 0.6, (i % 11) / 8 - 0.6, -(i % 5) / 6, (i >= 20 ? 1 : 0) }'; } > "$D/pts.csv"
+    # 40 rows, lobe 0 then lobe 1 from row 20: with 7-row chunks lobe 1 first comes in chunk 3
+    chunks_same eval_stream_chunks_transmittance_c "$D/pts.csv" transmittance --scene "$D/scene.json"
+    chunks_same eval_stream_chunks_transmittance_reference "$D/pts.csv" transmittance --scene "$D/scene.json" --backend reference
+    chunks_same eval_stream_chunks_forward_c "$D/pts.csv" forward-transmittance --scene "$D/scene.json"
+    if have_cl; then
+        chunks_same eval_stream_chunks_forward_opencl "$D/pts.csv" forward-transmittance --scene "$D/scene.json" --device "$SL_CL_DEVICE"
+    else cl_skip eval_stream_chunks_forward_opencl "no OpenCL device"; fi
+else skip eval_stream_chunks_scene "no python3"; fi
 rm -rf "$D"
