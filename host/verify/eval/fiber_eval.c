@@ -282,6 +282,7 @@ struct sl_eval_session {
     int have_ren;
     cl_mem ren_table; /* its copy on the OpenCL device, uploaded at the first chunk */
     float *dual[3];   /* ms-material: each channel's dual-scattering table (built on the backend) */
+    slcl_rows_bufs rows; /* scatter, deon-mp, furnace on opencl: their row buffers, kept */
 };
 
 sl_eval_session *sl_eval_session_new(void) {
@@ -292,6 +293,7 @@ void sl_eval_session_free(sl_eval_session *s) {
     if (!s) return;
     if (s->have_tables) sl_srbf_tables_free(&s->tables);
     slcl_srbf_ren_table_release(&s->ren_table);
+    slcl_rows_bufs_release(&s->rows);
     if (s->have_ren) sl_srbf_ren_free(&s->ren);
     for (int ch = 0; ch < 3; ch++)
         free(s->dual[ch]);
@@ -348,13 +350,13 @@ static int run_float(sl_eval_session *s, sl_eval_quantity q, sl_eval_backend b, 
     } else {
         switch (q) {
         case SL_EVAL_SCATTER:
-            rc = slcl_scatter_batch(cl, &fp, n, fin, fout, e);
+            rc = slcl_scatter_rows(cl, &fp, n, fin, fout, &s->rows, e);
             break;
         case SL_EVAL_DEON_MP:
-            rc = slcl_deon_mp_batch(cl, n, fin, fout, e);
+            rc = slcl_deon_mp_rows(cl, n, fin, fout, &s->rows, e);
             break;
         case SL_EVAL_FURNACE:
-            rc = slcl_furnace_batch(cl, &fp, n, fin, fout, e);
+            rc = slcl_furnace_rows(cl, &fp, n, fin, fout, &s->rows, e);
             break;
         case SL_EVAL_MS_MATERIAL:
             if (!s->dual[ch]) { /* slcl_ms_material_batch, its table kept for the next chunks */
