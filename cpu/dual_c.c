@@ -21,8 +21,12 @@ void slc_ms_material_batch(const sl_fiber_params *fp, size_t n, const float *in,
     float *tab = malloc(SL_DUAL_TABLE_FLOATS * sizeof *tab);
     if (!tab) abort();
     slc_dual_table(fp, tab);
+    slc_ms_material_lookup(tab, n, in, out);
+    free(tab);
+}
+
+void slc_ms_material_lookup(const float *tab, size_t n, const float *in, float *out) {
     for (size_t r = 0; r < n; r++)
         for (int k = 0; k < 9; k++)
             out[r * 9 + (size_t)k] = sl_dual_lookup(tab, k, in[r]);
-    free(tab);
 }

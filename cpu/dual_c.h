@@ -16,5 +16,7 @@ void slc_dual_table(const sl_fiber_params *fp, float *tab);
 /* in: theta_d per row; out: 9 floats per row (a_f, a_b, alpha_f, alpha_b, beta_f, beta_b, A_b,
  * Delta_b, sigma_b), interpolated from the table built for fp. */
 void slc_ms_material_batch(const sl_fiber_params *fp, size_t n, const float *in, float *out);
+/* The same lookup in a table already built by slc_dual_table (eval keeps it across chunks). */
+void slc_ms_material_lookup(const float *tab, size_t n, const float *in, float *out);
 
 #endif

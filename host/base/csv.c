@@ -82,6 +82,37 @@ static int cmp_name_index(const void *a, const void *b) {
     return c ? c : (i < j ? -1 : i > j);
 }
 
+/* Parses the header line (csv->header = line, which must outlive csv): column names, then the
+ * checks of a number (no header), an empty name and a duplicate. */
+static int parse_header(sl_csv *csv, const char *line, const char *src, sl_err *e) {
+    csv->header = line;
+    csv->ncols = count_fields(line);
+    csv->names_buf = sl_strdup(line);
+    csv->names = sl_malloc(csv->ncols * sizeof *csv->names);
+    split(csv->names_buf, csv->ncols, (const char **)csv->names);
+    for (size_t c = 0; c < csv->ncols; c++) {
+        if (sl_csv_is_number(csv->names[c]))
+            return sl_fail(e,
+                           "%s:1: expected a header line naming the columns, got the number '%s' "
+                           "(input needs a header)",
+                           src, csv->names[c]);
+        if (!csv->names[c][0]) return sl_fail(e, "%s:1: column %zu has an empty name", src, c + 1);
+    }
+    /* Duplicates by sorting (n log n: a header of 200 000 columns took 52 s pairwise, issue
+     * 21); the one named is the first column, in header order, that repeats an earlier one. */
+    size_t *ord = sl_malloc((csv->ncols ? csv->ncols : 1) * sizeof *ord);
+    for (size_t c = 0; c < csv->ncols; c++)
+        ord[c] = c;
+    sort_names = (const char *const *)csv->names;
+    qsort(ord, csv->ncols, sizeof *ord, cmp_name_index);
+    size_t dup = csv->ncols;
+    for (size_t k = 1; k < csv->ncols; k++)
+        if (strcmp(csv->names[ord[k]], csv->names[ord[k - 1]]) == 0 && ord[k] < dup) dup = ord[k];
+    free(ord);
+    if (dup < csv->ncols) return sl_fail(e, "%s:1: duplicate column '%s'", src, csv->names[dup]);
+    return 0;
+}
+
 int sl_csv_parse(const char *text, size_t len, const char *src, sl_csv *csv, sl_err *e) {
     memset(csv, 0, sizeof *csv);
     csv->src = src;
@@ -133,42 +164,7 @@ int sl_csv_parse(const char *text, size_t len, const char *src, sl_csv *csv, sl_
         sl_fail(e, "%s:1: blank line: expected a header line naming the columns", src);
         goto done;
     }
-    csv->header = lines[0];
-    csv->ncols = count_fields(lines[0]);
-    csv->names_buf = sl_strdup(lines[0]);
-    csv->names = sl_malloc(csv->ncols * sizeof *csv->names);
-    split(csv->names_buf, csv->ncols, (const char **)csv->names);
-    for (size_t c = 0; c < csv->ncols; c++) {
-        if (sl_csv_is_number(csv->names[c])) {
-            sl_fail(e,
-                    "%s:1: expected a header line naming the columns, got the number '%s' "
-                    "(input needs a header)",
-                    src, csv->names[c]);
-            goto done;
-        }
-        if (!csv->names[c][0]) {
-            sl_fail(e, "%s:1: column %zu has an empty name", src, c + 1);
-            goto done;
-        }
-    }
-    {
-        /* Duplicates by sorting (n log n: a header of 200 000 columns took 52 s pairwise, issue
-         * 21); the one named is the first column, in header order, that repeats an earlier one. */
-        size_t *ord = sl_malloc((csv->ncols ? csv->ncols : 1) * sizeof *ord);
-        for (size_t c = 0; c < csv->ncols; c++)
-            ord[c] = c;
-        sort_names = (const char *const *)csv->names;
-        qsort(ord, csv->ncols, sizeof *ord, cmp_name_index);
-        size_t dup = csv->ncols;
-        for (size_t k = 1; k < csv->ncols; k++)
-            if (strcmp(csv->names[ord[k]], csv->names[ord[k - 1]]) == 0 && ord[k] < dup)
-                dup = ord[k];
-        free(ord);
-        if (dup < csv->ncols) {
-            sl_fail(e, "%s:1: duplicate column '%s'", src, csv->names[dup]);
-            goto done;
-        }
-    }
+    if (parse_header(csv, lines[0], src, e)) goto done;
 
     /* Rows. */
     csv->nrows = nlines - 1;
@@ -285,4 +281,120 @@ int sl_read_stream(FILE *fp, const char *name, char **data, size_t *size, sl_err
     *data = buf;
     *size = n;
     return 0;
+}
+
+/* ---- the chunked reader (csv.h) ---- */
+
+/* The next physical line into r->line_buf, its line ending cut (LF, then one CR; the UTF-8 BOM
+ * off line 1): 1, 0 at the end of the input, or -1 with e set (a NUL byte, a read error). */
+static int reader_line(sl_csv_reader *r, char **line, sl_err *e) {
+    ssize_t n = getline(&r->line_buf, &r->line_cap, r->fp);
+    if (n < 0) {
+        if (ferror(r->fp)) return sl_fail(e, "%s: read error", r->csv.src);
+        return 0;
+    }
+    r->line++;
+    char *p = r->line_buf;
+    size_t len = (size_t)n;
+    if (len > 0 && p[len - 1] == '\n') p[--len] = 0;
+    if (memchr(p, 0, len))
+        return sl_fail(e, "%s:%ld: contains a NUL byte (expected text)", r->csv.src, r->line);
+    if (len > 0 && p[len - 1] == '\r') p[--len] = 0;                           /* CRLF */
+    if (r->line == 1 && len >= 3 && memcmp(p, "\xEF\xBB\xBF", 3) == 0) p += 3; /* UTF-8 BOM */
+    *line = p;
+    return 1;
+}
+
+/* The next non-blank line: 1, 0 at the end (blank lines before it are trailing, so tolerated),
+ * -1 with e set: a quote, or blank lines that turn out to lie between records (or before the
+ * header), with sl_csv_parse's messages. */
+static int reader_record(sl_csv_reader *r, char **line, sl_err *e) {
+    const char *src = r->csv.src;
+    for (;;) {
+        int rc = reader_line(r, line, e);
+        if (rc <= 0) return rc;
+        if (blank_line(*line)) {
+            if (!r->blank_count++) r->blank_first = r->line;
+            continue;
+        }
+        int quote = strchr(*line, '"') != NULL;
+        if (r->blank_count && r->blank_first == 1 && r->blank_count == 1 && !quote)
+            return sl_fail(e, "%s:1: blank line: expected a header line naming the columns", src);
+        if (r->blank_count && !(r->blank_first == 1 && r->blank_count == 1))
+            return sl_fail(e, "%s:%ld: blank line between records", src,
+                           r->blank_first == 1 ? 2 : r->blank_first);
+        if (quote)
+            return sl_fail(e, "%s:%ld: quoted fields are not supported (no '\"' anywhere)", src,
+                           r->line);
+        return 1;
+    }
+}
+
+int sl_csv_reader_open(sl_csv_reader *r, FILE *fp, const char *src, sl_err *e) {
+    memset(r, 0, sizeof *r);
+    r->fp = fp;
+    r->csv.src = src;
+    char *line;
+    int rc = reader_record(r, &line, e);
+    if (rc == 0) sl_fail(e, "%s: empty input: expected a CSV header line naming the columns", src);
+    if (rc == 1) {
+        r->csv.text = sl_strdup(line); /* the header, kept for the whole run */
+        rc = parse_header(&r->csv, r->csv.text, src, e) ? -1 : 1;
+    }
+    if (rc != 1) {
+        sl_csv_reader_close(r);
+        return -1;
+    }
+    return 0;
+}
+
+int sl_csv_reader_next(sl_csv_reader *r, size_t max_rows, sl_err *e) {
+    sl_csv *c = &r->csv;
+    c->nrows = 0;
+    r->text.len = 0;
+    while (c->nrows < max_rows && !r->at_eof) {
+        char *line;
+        int rc = reader_record(r, &line, e);
+        if (rc < 0) return -1;
+        if (rc == 0) {
+            r->at_eof = 1;
+            break;
+        }
+        size_t nf = count_fields(line);
+        if (nf != c->ncols)
+            return sl_fail(e, "%s:%ld: expected %zu fields like the header, got %zu", c->src,
+                           r->line, c->ncols, nf);
+        if (c->nrows == r->rows_cap) {
+            r->rows_cap = r->rows_cap ? 2 * r->rows_cap : 1024;
+            r->offs = sl_realloc(r->offs, r->rows_cap * sizeof *r->offs);
+            c->rows = sl_realloc(c->rows, r->rows_cap * sizeof *c->rows);
+            c->line_no = sl_realloc(c->line_no, r->rows_cap * sizeof *c->line_no);
+        }
+        r->offs[c->nrows] = r->text.len;
+        c->line_no[c->nrows] = r->line;
+        sl_buf_add(&r->text, line, strlen(line) + 1);
+        c->nrows++;
+    }
+    /* Row pointers only now: the text buffer may have moved while it grew. */
+    size_t ncells = c->nrows * c->ncols;
+    if (ncells > r->fields_cap || !c->fields) {
+        r->fields_cap = ncells > r->fields_cap ? ncells : r->fields_cap;
+        c->fields = sl_realloc(c->fields, (r->fields_cap ? r->fields_cap : 1) * sizeof *c->fields);
+    }
+    if (c->nrows) c->fields_buf = sl_realloc(c->fields_buf, r->text.len);
+    for (size_t k = 0; k < c->nrows; k++) {
+        c->rows[k] = r->text.p + r->offs[k];
+        size_t n = strlen(c->rows[k]) + 1;
+        memcpy(c->fields_buf + r->offs[k], c->rows[k], n);
+        split(c->fields_buf + r->offs[k], c->ncols, c->fields + k * c->ncols);
+    }
+    return 0;
+}
+
+void sl_csv_reader_close(sl_csv_reader *r) {
+    sl_csv_free(&r->csv); /* the header copy, names, rows, line numbers, fields */
+    free(r->line_buf);
+    sl_buf_free(&r->text);
+    free(r->offs);
+    memset(r, 0, sizeof *r);
 }

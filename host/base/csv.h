@@ -12,7 +12,20 @@
  * is an error. Spaces and tabs around a name or a number are ignored; the row text itself is
  * kept exactly as given so it can be copied through. Line numbers count from 1 at the header.
  *
- * sl_buf is the growable output buffer that eval writes into before anything goes to stdout. */
+ * sl_csv_reader reads the same dialect from a stream in chunks of rows (eval's bounded-memory
+ * path, issue 21): the header once, then up to max_rows rows at a time into the same sl_csv
+ * layout, so a 10M-row input never has to be in memory at once:
+ *
+ *   sl_csv_reader r;
+ *   if (sl_csv_reader_open(&r, stdin, "<stdin>", &e)) ...     (r.csv: header, names; no rows)
+ *   while (!(rc = sl_csv_reader_next(&r, 65536, &e)) && r.csv.nrows) ... r.csv.rows, fields
+ *   sl_csv_reader_close(&r);
+ *
+ * Each error is the one sl_csv_parse gives for the same line; where an input has several errors,
+ * the reader names the first it meets in input order (sl_csv_parse looks for some kinds in the
+ * whole input first).
+ *
+ * sl_buf is the growable output buffer that eval formats each chunk into. */
 #ifndef SL_CSV_H
 #define SL_CSV_H
 
@@ -54,6 +67,29 @@ void sl_buf_add(sl_buf *b, const char *s, size_t n);
 void sl_buf_puts(sl_buf *b, const char *s);
 void sl_buf_printf(sl_buf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 void sl_buf_free(sl_buf *b);
+
+/* The chunked reader (see the top of this file). */
+typedef struct sl_csv_reader {
+    sl_csv csv; /* header and names; after sl_csv_reader_next, that chunk's rows */
+    FILE *fp;
+    long line;        /* physical lines read so far */
+    long blank_first; /* first of the blank lines read but not yet known to be trailing (0: none) */
+    long blank_count; /* how many */
+    int at_eof;
+    char *line_buf; /* getline's buffer */
+    size_t line_cap;
+    sl_buf text;     /* the chunk's row texts, each NUL-terminated */
+    size_t *offs;    /* where each row starts in text */
+    size_t rows_cap; /* capacity of offs, csv.rows, csv.line_no */
+    size_t fields_cap;
+} sl_csv_reader;
+/* Reads lines up to the header and parses it (the same checks and messages as sl_csv_parse:
+ * empty input, a number or an empty name in the header, duplicates, a quote, a NUL byte, a
+ * blank line before the header). On failure everything is freed. */
+int sl_csv_reader_open(sl_csv_reader *r, FILE *fp, const char *src, sl_err *e);
+/* Replaces r->csv's rows with the next at most max_rows rows (csv.nrows == 0: end of input). */
+int sl_csv_reader_next(sl_csv_reader *r, size_t max_rows, sl_err *e);
+void sl_csv_reader_close(sl_csv_reader *r);
 
 /* Reads all of fp (e.g. stdin) into memory (NUL-terminated). */
 int sl_read_stream(FILE *fp, const char *name, char **data, size_t *size, sl_err *e);

@@ -476,11 +476,19 @@ void sl_srbf_ren_free(sl_srbf_ren *t) {
 
 int sl_srbf_ren_eval(sl_cl *cl, const sl_srbf_ren *t, int ch, size_t n, const float *in, float *out,
                      sl_err *e) {
+    cl_mem table = NULL;
+    int rc = sl_srbf_ren_eval_keep(cl, t, &table, ch, n, in, out, e);
+    slcl_srbf_ren_table_release(&table);
+    return rc;
+}
+
+int sl_srbf_ren_eval_keep(sl_cl *cl, const sl_srbf_ren *t, cl_mem *table, int ch, size_t n,
+                          const float *in, float *out, sl_err *e) {
     if (ch < 0 || ch > 2) return sl_fail(e, "srbf table: channel %d is not 0..2", ch);
     float *o9 = sl_malloc((n ? n : 1) * 9 * sizeof *o9);
     int rc = 0;
     if (cl)
-        rc = slcl_srbf_ren_batch(cl, t, n, in, o9, e);
+        rc = slcl_srbf_ren_rows(cl, t, table, "clCreateBuffer", n, in, o9, e);
     else
         slc_srbf_ren_batch(t, n, in, o9);
     if (!rc)

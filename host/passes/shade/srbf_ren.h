@@ -83,5 +83,9 @@ void slcl_srbf_ren_table_release(cl_mem *table);
  * colour channel ch: I_R, I_TT, I_TRT, I (the columns of `eval srbf`). */
 int sl_srbf_ren_eval(sl_cl *cl, const sl_srbf_ren *t, int ch, size_t n, const float *in, float *out,
                      sl_err *e);
+/* The same keeping the table on the device between calls (eval's chunks): *table as for
+ * slcl_srbf_ren_rows (NULL at first; the caller releases it with slcl_srbf_ren_table_release). */
+int sl_srbf_ren_eval_keep(sl_cl *cl, const sl_srbf_ren *t, cl_mem *table, int ch, size_t n,
+                          const float *in, float *out, sl_err *e);
 
 #endif

@@ -608,6 +608,15 @@ int sl_srbf_tables_get(sl_srbf_tables *t, int verbose, sl_err *e) {
 
 int sl_srbf_eval(sl_cl *cl, const sl_material *m, int ch, int xu, int segments, size_t n,
                  const float *in, float *out, sl_err *e) {
+    sl_srbf_tables t;
+    int got = 0;
+    int rc = sl_srbf_eval_keep(cl, m, &t, &got, ch, xu, segments, n, in, out, e);
+    if (got) sl_srbf_tables_free(&t);
+    return rc;
+}
+
+int sl_srbf_eval_keep(sl_cl *cl, const sl_material *m, sl_srbf_tables *t, int *got, int ch, int xu,
+                      int segments, size_t n, const float *in, float *out, sl_err *e) {
     if (m->model != SL_MODEL_MARSCHNER) {
         /* Xu's closed form is a construction for the Marschner model (its C_k/H_k fits and
          * Gaussian M); d'Eon and Chiang have the fast path only (docs/srbf.md, "d'Eon fast
@@ -619,32 +628,30 @@ int sl_srbf_eval(sl_cl *cl, const sl_material *m, int ch, int xu, int segments, 
                            "model; model %s has --method fast (c, opencl) and exact "
                            "(reference)",
                            name);
-        sl_srbf_tables t;
-        if (sl_srbf_tables_get(&t, 1, e)) return -1;
+        if (!*got && sl_srbf_tables_get(t, 1, e)) return -1;
+        *got = 1;
         sl_fiber_params fp;
         sl_material_to_fiber(m, ch, &fp);
         int rc = 0;
         if (cl)
-            rc = slcl_srbf_deon_batch(cl, &fp, &t, n, in, out, e);
+            rc = slcl_srbf_deon_batch(cl, &fp, t, n, in, out, e);
         else
-            slc_srbf_deon_batch(&fp, t.C, t.H, t.D, n, in, out);
-        sl_srbf_tables_free(&t);
+            slc_srbf_deon_batch(&fp, t->C, t->H, t->D, n, in, out);
         return rc ? -1 : 0;
     }
     if (segments == 0) segments = 4;
     if (segments < 1 || segments > SL_SRBF_MAX_SEGMENTS)
         return sl_fail(e, "eval: --segments must be 1..%d (got %d)", SL_SRBF_MAX_SEGMENTS,
                        segments);
-    sl_srbf_tables t;
-    if (sl_srbf_tables_get(&t, 1, e)) return -1;
+    if (!*got && sl_srbf_tables_get(t, 1, e)) return -1;
+    *got = 1;
     sl_fiber_params fp;
     sl_material_to_fiber(m, ch, &fp);
     int method = xu ? SL_SRBF_METHOD_XU : SL_SRBF_METHOD_FAST;
     int rc = 0;
     if (cl)
-        rc = slcl_srbf_batch(cl, &fp, &t, method, segments, n, in, out, e);
+        rc = slcl_srbf_batch(cl, &fp, t, method, segments, n, in, out, e);
     else
-        slc_srbf_batch(&fp, t.C, t.H, method, segments, n, in, out);
-    sl_srbf_tables_free(&t);
+        slc_srbf_batch(&fp, t->C, t->H, method, segments, n, in, out);
     return rc ? -1 : 0;
 }

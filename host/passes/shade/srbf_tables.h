@@ -73,5 +73,10 @@ double sl_srbf_chiang_detector_exact(double s, int n);
  * the same with orders 2 (I_0, I_1, I_2, I_rest, I). */
 int sl_srbf_eval(sl_cl *cl, const sl_material *m, int ch, int xu, int segments, size_t n,
                  const float *in, float *out, sl_err *e);
+/* The same keeping the tables between calls, so that a caller evaluating many chunks of rows
+ * (eval's streaming, docs/eval.md) loads or builds them once: while *got is 0 they are got into
+ * *t (after the method is checked) and *got set to 1; the caller frees *t when *got. */
+int sl_srbf_eval_keep(sl_cl *cl, const sl_material *m, sl_srbf_tables *t, int *got, int ch, int xu,
+                      int segments, size_t n, const float *in, float *out, sl_err *e);
 
 #endif

@@ -41,16 +41,22 @@ int slcl_ms_material_batch(sl_cl *cl, const sl_fiber_params *fp, size_t n, const
     if (n > 0xffffffffu) return sl_fail(e, "ms-material: %zu rows is too many", n);
     float *tab = sl_malloc(SL_DUAL_TABLE_FLOATS * sizeof *tab);
     int rc = slcl_dual_table(cl, fp, tab, e);
+    if (!rc) rc = slcl_ms_material_lookup(cl, tab, n, in, out, e);
+    free(tab);
+    return rc;
+}
+
+int slcl_ms_material_lookup(sl_cl *cl, const float *tab, size_t n, const float *in, float *out,
+                            sl_err *e) {
+    if (n == 0) return 0;
+    if (n > 0xffffffffu) return sl_fail(e, "ms-material: %zu rows is too many", n);
     cl_kernel k;
-    if (!rc) rc = sl_cl_get_kernel(cl, "dual.cl", "sl_dual_lookup_rows", NULL, &k, e);
-    if (rc) {
-        free(tab);
-        return rc;
-    }
+    int rc = sl_cl_get_kernel(cl, "dual.cl", "sl_dual_lookup_rows", NULL, &k, e);
+    if (rc) return rc;
     cl_context ctx = sl_cl_context(cl);
     cl_int err = 0;
     cl_mem bt = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                               SL_DUAL_TABLE_FLOATS * sizeof(float), tab, &err);
+                               SL_DUAL_TABLE_FLOATS * sizeof(float), (void *)tab, &err);
     cl_mem bi = NULL, bo = NULL;
     if (!err)
         bi = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(float),
@@ -76,6 +82,5 @@ int slcl_ms_material_batch(sl_cl *cl, const sl_fiber_params *fp, size_t n, const
     if (bt) clReleaseMemObject(bt);
     if (bi) clReleaseMemObject(bi);
     if (bo) clReleaseMemObject(bo);
-    free(tab);
     return rc;
 }

@@ -12,5 +12,9 @@ int slcl_dual_table(sl_cl *cl, const sl_fiber_params *fp, float *tab, sl_err *e)
 /* in: theta_d per row; out: 9 floats per row (the table built on the device, looked up there). */
 int slcl_ms_material_batch(sl_cl *cl, const sl_fiber_params *fp, size_t n, const float *in,
                            float *out, sl_err *e);
+/* The same lookup on the device in a table already built by slcl_dual_table (eval keeps it
+ * across chunks). */
+int slcl_ms_material_lookup(sl_cl *cl, const float *tab, size_t n, const float *in, float *out,
+                            sl_err *e);
 
 #endif

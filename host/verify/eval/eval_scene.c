@@ -7,10 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-int sl_eval_scene_lobes(const sl_scene *s, size_t n, const double *rows, const long *line_no,
-                        sl_lobes *lobes, sl_err *e) {
-    if (sl_scene_lobes(s, 0, lobes, e)) return -1;
-    sl_lobes_transform(lobes, s->env_rotation_deg, 1.0);
+int sl_eval_scene_check_rows(const sl_lobes *lobes, size_t n, const double *rows,
+                             const long *line_no, sl_err *e) {
     for (size_t i = 0; i < n; i++)
         if (rows[4 * i + 3] >= lobes->count)
             return sl_fail(
@@ -18,6 +16,13 @@ int sl_eval_scene_lobes(const sl_scene *s, size_t n, const double *rows, const l
                 line_no ? line_no[i] : (long)i + 2, rows[4 * i + 3], lobes->count,
                 lobes->count - 1);
     return 0;
+}
+
+int sl_eval_scene_lobes(const sl_scene *s, size_t n, const double *rows, const long *line_no,
+                        sl_lobes *lobes, sl_err *e) {
+    if (sl_scene_lobes(s, 0, lobes, e)) return -1;
+    sl_lobes_transform(lobes, s->env_rotation_deg, 1.0);
+    return sl_eval_scene_check_rows(lobes, n, rows, line_no, e);
 }
 
 int sl_eval_scene_load(const char *path, sl_eval_scene_check check, size_t n, const double *rows,

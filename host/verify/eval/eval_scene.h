@@ -16,6 +16,9 @@
  * lobe index is out of range. */
 int sl_eval_scene_lobes(const sl_scene *s, size_t n, const double *rows, const long *line_no,
                         sl_lobes *lobes, sl_err *e);
+/* The lobe check alone, for each further chunk of rows of a streamed eval. */
+int sl_eval_scene_check_rows(const sl_lobes *lobes, size_t n, const double *rows,
+                             const long *line_no, sl_err *e);
 
 /* What a scene-based eval quantity works on: the scene, its hair and its lobes (turned). */
 typedef struct sl_eval_scene_data {

@@ -6,6 +6,7 @@
 #include "chiang_ref.h"
 #include "deon_ref.h"
 #include "dual_c.h"
+#include "dual_material.h"
 #include "passes/volume/dual_cl.h"
 #include "dual_ref.h"
 #include "fiber_c.h"
@@ -274,9 +275,34 @@ static float to_float(double v, sl_eval_range range) {
     return f;
 }
 
-static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, int segments,
-                     sl_cl *cl, const sl_material *m, int ch, size_t n, const double *in,
-                     double *out, sl_err *e) {
+struct sl_eval_session {
+    sl_srbf_tables tables; /* srbf xu / fast */
+    int have_tables;
+    sl_srbf_ren ren; /* srbf table */
+    int have_ren;
+    cl_mem ren_table; /* its copy on the OpenCL device, uploaded at the first chunk */
+    float *dual[3];   /* ms-material: each channel's dual-scattering table (built on the backend) */
+    slcl_rows_bufs rows; /* scatter, deon-mp, furnace on opencl: their row buffers, kept */
+};
+
+sl_eval_session *sl_eval_session_new(void) {
+    return sl_calloc(1, sizeof(sl_eval_session));
+}
+
+void sl_eval_session_free(sl_eval_session *s) {
+    if (!s) return;
+    if (s->have_tables) sl_srbf_tables_free(&s->tables);
+    slcl_srbf_ren_table_release(&s->ren_table);
+    slcl_rows_bufs_release(&s->rows);
+    if (s->have_ren) sl_srbf_ren_free(&s->ren);
+    for (int ch = 0; ch < 3; ch++)
+        free(s->dual[ch]);
+    free(s);
+}
+
+static int run_float(sl_eval_session *s, sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt,
+                     int segments, sl_cl *cl, const sl_material *m, int ch, size_t n,
+                     const double *in, double *out, sl_err *e) {
     const qdesc *d = &quantities[q];
     size_t nin = d->nin, nout = sl_eval_num_outputs(q, m);
     if (b == SL_EVAL_OPENCL && !cl) return sl_fail(e, "eval: --backend opencl needs a device");
@@ -288,14 +314,18 @@ static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, i
     if (m) sl_material_to_fiber(m, ch, &fp);
     int rc = 0;
     if (q == SL_EVAL_SRBF && mt == SL_EVAL_METHOD_TABLE) {
-        /* the table of material m (disk cache, or built on the C path), then its lookup */
-        sl_srbf_ren t;
-        rc = sl_srbf_ren_get(NULL, m, NULL, &t, e);
-        if (!rc) rc = sl_srbf_ren_eval(b == SL_EVAL_OPENCL ? cl : NULL, &t, ch, n, fin, fout, e);
-        sl_srbf_ren_free(&t); /* t is zeroed first, so this is safe after a failure too */
+        /* the table of material m (disk cache, or built on the C path; once per session), then
+         * its lookup */
+        if (!s->have_ren) {
+            rc = sl_srbf_ren_get(NULL, m, NULL, &s->ren, e);
+            s->have_ren = 1; /* ren is zeroed first, so freeing it is safe after a failure too */
+        }
+        if (!rc)
+            rc = sl_srbf_ren_eval_keep(b == SL_EVAL_OPENCL ? cl : NULL, &s->ren, &s->ren_table, ch,
+                                       n, fin, fout, e);
     } else if (q == SL_EVAL_SRBF) {
-        rc = sl_srbf_eval(b == SL_EVAL_OPENCL ? cl : NULL, m, ch, mt == SL_EVAL_METHOD_XU, segments,
-                          n, fin, fout, e);
+        rc = sl_srbf_eval_keep(b == SL_EVAL_OPENCL ? cl : NULL, m, &s->tables, &s->have_tables, ch,
+                               mt == SL_EVAL_METHOD_XU, segments, n, fin, fout, e);
     } else if (b == SL_EVAL_C) {
         switch (q) {
         case SL_EVAL_SCATTER:
@@ -308,7 +338,11 @@ static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, i
             slc_furnace_batch(&fp, n, fin, fout);
             break;
         case SL_EVAL_MS_MATERIAL:
-            slc_ms_material_batch(&fp, n, fin, fout);
+            if (!s->dual[ch]) { /* slc_ms_material_batch, its table kept for the next chunks */
+                s->dual[ch] = sl_malloc(SL_DUAL_TABLE_FLOATS * sizeof(float));
+                slc_dual_table(&fp, s->dual[ch]);
+            }
+            slc_ms_material_lookup(s->dual[ch], n, fin, fout);
             break;
         default:
             rc = sl_fail(e, "eval: %s is not implemented yet", d->name);
@@ -316,16 +350,24 @@ static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, i
     } else {
         switch (q) {
         case SL_EVAL_SCATTER:
-            rc = slcl_scatter_batch(cl, &fp, n, fin, fout, e);
+            rc = slcl_scatter_rows(cl, &fp, n, fin, fout, &s->rows, e);
             break;
         case SL_EVAL_DEON_MP:
-            rc = slcl_deon_mp_batch(cl, n, fin, fout, e);
+            rc = slcl_deon_mp_rows(cl, n, fin, fout, &s->rows, e);
             break;
         case SL_EVAL_FURNACE:
-            rc = slcl_furnace_batch(cl, &fp, n, fin, fout, e);
+            rc = slcl_furnace_rows(cl, &fp, n, fin, fout, &s->rows, e);
             break;
         case SL_EVAL_MS_MATERIAL:
-            rc = slcl_ms_material_batch(cl, &fp, n, fin, fout, e);
+            if (!s->dual[ch]) { /* slcl_ms_material_batch, its table kept for the next chunks */
+                s->dual[ch] = sl_malloc(SL_DUAL_TABLE_FLOATS * sizeof(float));
+                rc = slcl_dual_table(cl, &fp, s->dual[ch], e);
+                if (rc) {
+                    free(s->dual[ch]);
+                    s->dual[ch] = NULL;
+                }
+            }
+            if (!rc) rc = slcl_ms_material_lookup(cl, s->dual[ch], n, fin, fout, e);
             break;
         default:
             rc = sl_fail(e, "eval: %s is not implemented yet", d->name);
@@ -368,6 +410,15 @@ int sl_eval_run(sl_eval_quantity q, sl_eval_backend b, sl_cl *cl, const sl_mater
 int sl_eval_run_method(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, int srbf_segments,
                        sl_cl *cl, const sl_material *m, int ch, size_t n, const double *in,
                        double *out, sl_err *e) {
+    sl_eval_session *s = sl_eval_session_new();
+    int rc = sl_eval_run_session(s, q, b, mt, srbf_segments, cl, m, ch, n, in, out, e);
+    sl_eval_session_free(s);
+    return rc;
+}
+
+int sl_eval_run_session(sl_eval_session *s, sl_eval_quantity q, sl_eval_backend b,
+                        sl_eval_method mt, int srbf_segments, sl_cl *cl, const sl_material *m,
+                        int ch, size_t n, const double *in, double *out, sl_err *e) {
     const char *why = sl_eval_method_unsupported(q, b, mt);
     if (why) return sl_fail(e, "eval: %s", why);
     if (!quantities[q].implemented)
@@ -377,6 +428,6 @@ int sl_eval_run_method(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt,
     if (sl_eval_check_backend(q, b, m, NULL, e)) return -1;
     if (n == 0) return 0;
     if (b == SL_EVAL_REFERENCE) return run_reference(q, m, ch, n, in, out, e);
-    return run_float(q, b, mt, srbf_segments, cl, quantities[q].uses_material ? m : NULL, ch, n, in,
-                     out, e);
+    return run_float(s, q, b, mt, srbf_segments, cl, quantities[q].uses_material ? m : NULL, ch, n,
+                     in, out, e);
 }

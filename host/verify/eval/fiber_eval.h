@@ -99,7 +99,8 @@ typedef enum sl_eval_method {
     SL_EVAL_METHOD_EXACT,
     SL_EVAL_METHOD_XU,
     SL_EVAL_METHOD_FAST,
-    SL_EVAL_METHOD_TABLE /* Ren 2010's precomputed table (host/passes/shade/srbf_ren.h, docs/srbf_ren.md) */
+    SL_EVAL_METHOD_TABLE /* Ren 2010's precomputed table (host/passes/shade/srbf_ren.h,
+                            docs/srbf_ren.md) */
 } sl_eval_method;
 /* "exact", "xu", "fast", "table" <-> enum; from_name returns -1 for an unknown name. */
 int sl_eval_method_from_name(const char *name, sl_eval_method *mt);
@@ -108,8 +109,19 @@ int sl_eval_method_from_name(const char *name, sl_eval_method *mt);
 const char *sl_eval_method_unsupported(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt);
 /* sl_eval_run with an explicit method (sl_eval_run uses SL_EVAL_METHOD_DEFAULT). srbf_segments
  * is the piecewise-linear quadrature's m of the xu method (1..8; 0: the default 4). */
-int sl_eval_run_method(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt,
-                       int srbf_segments, sl_cl *cl, const sl_material *m, int ch, size_t n,
-                       const double *in, double *out, sl_err *e);
+int sl_eval_run_method(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, int srbf_segments,
+                       sl_cl *cl, const sl_material *m, int ch, size_t n, const double *in,
+                       double *out, sl_err *e);
+
+/* What `eval` keeps between the chunks of one input (it streams its rows, docs/eval.md), so
+ * nothing is loaded or built per chunk: srbf's tables and Ren's table of the material, got at
+ * the first chunk that needs them. One session serves one material. */
+typedef struct sl_eval_session sl_eval_session;
+sl_eval_session *sl_eval_session_new(void);
+void sl_eval_session_free(sl_eval_session *s); /* NULL is fine */
+/* sl_eval_run_method within session s (the same rows give the same values either way). */
+int sl_eval_run_session(sl_eval_session *s, sl_eval_quantity q, sl_eval_backend b,
+                        sl_eval_method mt, int srbf_segments, sl_cl *cl, const sl_material *m,
+                        int ch, size_t n, const double *in, double *out, sl_err *e);
 
 #endif
