@@ -8,6 +8,9 @@
 
 #include <math.h>
 #include <string.h>
+#if defined(__x86_64__) && defined(__SSE__)
+#include <immintrin.h>
+#endif
 
 /* The double-precision twin of sl_raster_record_f (kernels/raster.h: spacing and caps), for
  * callers that project on the host (tests, a future view pass). */
@@ -43,12 +46,19 @@ void slc_raster_record(const double p0[3], const double p1[3], double hw, double
 }
 
 /* (uint64_t)llrintf(s) for 0 <= s < 2^63 in the default rounding mode (to nearest, ties to
- * even), without the libm call: below 2^23 adding and subtracting 2^23 rounds s to an integer in
- * that mode (the sum's ulp is 1) and both operations are exact otherwise; from 2^23 on a float
- * is already an integer. Bit-identical to llrintf (and to the kernel's convert_ulong_rte). */
+ * even), without the libm call. On x86-64 that is one cvtss2si (it rounds in the MXCSR's mode,
+ * to nearest by default, and nothing here changes it). Elsewhere: below 2^23 adding and
+ * subtracting 2^23 rounds s to an integer in that mode (the sum's ulp is 1) and both operations
+ * are exact otherwise; from 2^23 on a float is already an integer. Bit-identical to llrintf (and
+ * to the kernel's convert_ulong_rte) either way; the map total stays below 2^60
+ * (host/passes/light/shadow.c: prep_make), so s < 2^63. */
 static inline uint64_t round_share(float s) {
+#if defined(__x86_64__) && defined(__SSE__)
+    return (uint64_t)_mm_cvtss_si64(_mm_set_ss(s));
+#else
     if (s < 8388608.0f) return (uint64_t)((s + 8388608.0f) - 8388608.0f);
     return (uint64_t)s;
+#endif
 }
 
 static uint32_t bits_of(float f) {
