@@ -84,6 +84,22 @@ static int rec_inside(const float *rec, int w, int h) {
     return xl - 2.5 >= 0.0 && yl - 2.5 >= 0.0 && xh + 2.5 < (double)w && yh + 2.5 < (double)h;
 }
 
+/* sl_raster_tent (kernels/raster.h) for a sample of an in-map record (rec_inside holds: every
+ * tent corner is at least a texel inside, so x - 0.5 and y - 0.5 are positive): floor is
+ * truncation there, so one conversion per coordinate gives both the texel index and the floor.
+ * The same ix, iy, fx, fy bit for bit; why: without SSE4.1 the compiler's floorf is a range test,
+ * a branch and two conversions per coordinate, the largest part of the per-sample work
+ * (docs/performance.md, "Light pass (session 8)"). The map is at most SL_SHADOW_MAX_SIZE texels
+ * wide, far below 2^31. */
+static inline void tent_inside(float x, float y, sl_int *ix, sl_int *iy, float *fx, float *fy) {
+    const float gx = x - 0.5f, gy = y - 0.5f;
+    const sl_int jx = (sl_int)gx, jy = (sl_int)gy;
+    *ix = jx;
+    *iy = jy;
+    *fx = gx - (float)jx;
+    *fy = gy - (float)jy;
+}
+
 /* *p = min(*p, b) where the share rounds to a non-zero integer (llrintf(share) == 0 <=>
  * share <= 0.5: share >= 0, and rint(0.5) = 0 by ties-to-even); written as selects, so the
  * compiler emits conditional moves instead of two unpredictable branches a corner. */
@@ -94,11 +110,12 @@ static inline void z0_min(uint32_t *p, uint32_t b, float share) {
 
 /* One in-map record's first depths (rec_inside holds): the walk of sl_splat_next_sample
  * (kernels/splat.h) written out for the C path, with the same float operations from
- * kernels/raster.h in the same order (sl_raster_sample, sl_raster_tent, sl_raster_share), so the
- * same texels get the same depths; only the iterator's state is kept in registers instead of a
- * struct, and the four corners are written directly (no bounds test is needed). Why: the light
- * pass walks ~2.7 M samples per 256^2 map on the goal scene, and the generic walk cost ~16 ns a
- * sample in this pass (docs/performance.md, "Light pass and march (session 7)"). */
+ * kernels/raster.h in the same order (sl_raster_sample, sl_raster_tent as tent_inside,
+ * sl_raster_share), so the same texels get the same depths; only the iterator's state is kept in
+ * registers instead of a struct, and the four corners are written directly (no bounds test is
+ * needed). Why: the light pass walks ~2.7 M samples per 256^2 map on the goal scene, and the
+ * generic walk cost ~16 ns a sample in this pass (docs/performance.md, "Light pass and march
+ * (session 7)"). */
 static void z0_inside(const float *rec, int w, uint32_t *z0bits) {
     const float m = rec[8];
     const sl_uint na = (sl_uint)rec[9], nw = (sl_uint)rec[10];
@@ -107,7 +124,7 @@ static void z0_inside(const float *rec, int w, uint32_t *z0bits) {
             float x, y, z, fx, fy;
             sl_int ix, iy;
             sl_raster_sample(rec, i, j, &x, &y, &z);
-            sl_raster_tent(x, y, &ix, &iy, &fx, &fy);
+            tent_inside(x, y, &ix, &iy, &fx, &fy);
             const float gx = 1.0f - fx, gy = 1.0f - fy;
             const uint32_t b = bits_of(z);
             uint32_t *p = z0bits + (size_t)iy * w + ix;
@@ -198,7 +215,7 @@ static inline __attribute__((always_inline)) void layers_inside_tk(const float *
             float x, y, z, fx, fy;
             sl_int ix, iy;
             sl_raster_sample(rec, i, j, &x, &y, &z);
-            sl_raster_tent(x, y, &ix, &iy, &fx, &fy);
+            tent_inside(x, y, &ix, &iy, &fx, &fy);
             const float gx = 1.0f - fx, gy = 1.0f - fy;
             const size_t t = (size_t)iy * w + ix;
             layer_add_tk(bins, bnd, z0, K, t, sl_raster_share(m, gx, gy), z);
@@ -225,7 +242,7 @@ static void layers_inside(const float *rec, int w, const layer_out *o) {
             float x, y, z, fx, fy;
             sl_int ix, iy;
             sl_raster_sample(rec, i, j, &x, &y, &z);
-            sl_raster_tent(x, y, &ix, &iy, &fx, &fy);
+            tent_inside(x, y, &ix, &iy, &fx, &fy);
             const float gx = 1.0f - fx, gy = 1.0f - fy;
             const size_t t = (size_t)iy * w + ix;
             layer_add(o, t, sl_raster_share(m, gx, gy), z);
