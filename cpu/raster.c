@@ -8,8 +8,13 @@
 
 #include <math.h>
 #include <string.h>
-#if defined(__x86_64__) && defined(__SSE__)
+#if defined(__x86_64__) && defined(__SSE2__)
 #include <immintrin.h>
+/* x86-64's baseline (no dispatch needed): the one-sample-wide in-map walks take four samples'
+ * positions, tents and shares in one vector (quad_load). */
+#define SL_RASTER_SSE2 1
+#else
+#define SL_RASTER_SSE2 0
 #endif
 
 /* The double-precision twin of sl_raster_record_f (kernels/raster.h: spacing and caps), for
@@ -53,7 +58,7 @@ void slc_raster_record(const double p0[3], const double p1[3], double hw, double
  * to the kernel's convert_ulong_rte) either way; the map total stays below 2^60
  * (host/passes/light/shadow.c: prep_make), so s < 2^63. */
 static inline uint64_t round_share(float s) {
-#if defined(__x86_64__) && defined(__SSE__)
+#if SL_RASTER_SSE2
     return (uint64_t)_mm_cvtss_si64(_mm_set_ss(s));
 #else
     if (s < 8388608.0f) return (uint64_t)((s + 8388608.0f) - 8388608.0f);
@@ -135,12 +140,75 @@ static void z0_inside(const float *rec, int w, uint32_t *z0bits) {
         }
 }
 
+#if SL_RASTER_SSE2
+/* Samples i0 .. i0 + 3 (j = 0) of a one-sample-wide in-map record (nw = 1, the common case for
+ * hair: widths are far below a texel), lane l being sample i0 + l: the operations of
+ * sl_raster_sample, tent_inside and sl_raster_share, in the same order on the same operands
+ * lane by lane (cvttps2dq truncates as the scalar (int) does; fi counts up by 1.0f, exact below
+ * 2^24 = SL_RASTER_MAX_SAMPLES), so every texel gets the scalar walk's share and depth. Why:
+ * the per-sample arithmetic is ~1/3 of the walks' instructions; four lanes take ~15 % off the
+ * map (docs/performance.md, "Light pass (session 8)"). Lanes past the record's end are computed
+ * and not used. */
+typedef struct quad4 {
+    int32_t ix[4], iy[4];
+    float z[4], s[4][4]; /* s[corner][lane] */
+} quad4;
+
+static inline void quad_load(const float *rec, __m128 fi, quad4 *q) {
+    const __m128 fj = _mm_setzero_ps(), half = _mm_set1_ps(0.5f), one = _mm_set1_ps(1.0f);
+    const __m128 x =
+        _mm_add_ps(_mm_add_ps(_mm_set1_ps(rec[0]), _mm_mul_ps(fi, _mm_set1_ps(rec[3]))),
+                   _mm_mul_ps(fj, _mm_set1_ps(rec[6])));
+    const __m128 y =
+        _mm_add_ps(_mm_add_ps(_mm_set1_ps(rec[1]), _mm_mul_ps(fi, _mm_set1_ps(rec[4]))),
+                   _mm_mul_ps(fj, _mm_set1_ps(rec[7])));
+    const __m128 z = _mm_add_ps(_mm_set1_ps(rec[2]), _mm_mul_ps(fi, _mm_set1_ps(rec[5])));
+    const __m128 gx = _mm_sub_ps(x, half), gy = _mm_sub_ps(y, half);
+    const __m128i ix = _mm_cvttps_epi32(gx), iy = _mm_cvttps_epi32(gy);
+    const __m128 fx = _mm_sub_ps(gx, _mm_cvtepi32_ps(ix)), fy = _mm_sub_ps(gy, _mm_cvtepi32_ps(iy));
+    const __m128 ux = _mm_sub_ps(one, fx), uy = _mm_sub_ps(one, fy), m = _mm_set1_ps(rec[8]);
+    _mm_storeu_si128((__m128i *)q->ix, ix);
+    _mm_storeu_si128((__m128i *)q->iy, iy);
+    _mm_storeu_ps(q->z, z);
+    _mm_storeu_ps(q->s[0], _mm_mul_ps(_mm_mul_ps(m, ux), uy));
+    _mm_storeu_ps(q->s[1], _mm_mul_ps(_mm_mul_ps(m, fx), uy));
+    _mm_storeu_ps(q->s[2], _mm_mul_ps(_mm_mul_ps(m, ux), fy));
+    _mm_storeu_ps(q->s[3], _mm_mul_ps(_mm_mul_ps(m, fx), fy));
+}
+
+/* z0_inside for nw = 1, four samples a step. */
+static void z0_quads(const float *rec, int w, uint32_t *z0bits) {
+    const sl_uint na = (sl_uint)rec[9];
+    __m128 fi = _mm_setr_ps(0.0f, 1.0f, 2.0f, 3.0f);
+    const __m128 four = _mm_set1_ps(4.0f);
+    quad4 q;
+    for (sl_uint i = 0; i < na; i += 4, fi = _mm_add_ps(fi, four)) {
+        quad_load(rec, fi, &q);
+        const sl_uint n = na - i < 4 ? na - i : 4;
+        for (sl_uint l = 0; l < n; l++) {
+            const uint32_t b = bits_of(q.z[l]);
+            uint32_t *p = z0bits + (size_t)q.iy[l] * w + q.ix[l];
+            z0_min(p, b, q.s[0][l]);
+            z0_min(p + 1, b, q.s[1][l]);
+            z0_min(p + w, b, q.s[2][l]);
+            z0_min(p + w + 1, b, q.s[3][l]);
+        }
+    }
+}
+#endif
+
 void slc_raster_z0(const float *recs, size_t nseg, int w, int h, uint32_t *z0bits) {
     for (size_t t = 0; t < (size_t)w * h; t++)
         z0bits[t] = SL_RASTER_Z_EMPTY;
     for (size_t s = 0; s < nseg; s++) {
         const float *rec = recs + s * SL_RASTER_REC;
         if (rec_inside(rec, w, h)) {
+#if SL_RASTER_SSE2
+            if (rec[10] == 1.0f) {
+                z0_quads(rec, w, z0bits);
+                continue;
+            }
+#endif
             z0_inside(rec, w, z0bits);
             continue;
         }
@@ -225,9 +293,40 @@ static inline __attribute__((always_inline)) void layers_inside_tk(const float *
         }
 }
 
+#if SL_RASTER_SSE2
+/* layers_inside_tk for K = 4 and nw = 1, four samples a step (quad_load). */
+static void layers4_quads(const float *rec, int w, const layer_out *o) {
+    const sl_uint na = (sl_uint)rec[9];
+    uint64_t *bins = o->bins;
+    const float *bnd = o->bnd;
+    const uint32_t *z0 = o->z0bits;
+    __m128 fi = _mm_setr_ps(0.0f, 1.0f, 2.0f, 3.0f);
+    const __m128 four = _mm_set1_ps(4.0f);
+    quad4 q;
+    for (sl_uint i = 0; i < na; i += 4, fi = _mm_add_ps(fi, four)) {
+        quad_load(rec, fi, &q);
+        const sl_uint n = na - i < 4 ? na - i : 4;
+        for (sl_uint l = 0; l < n; l++) {
+            const size_t t = (size_t)q.iy[l] * w + q.ix[l];
+            const float z = q.z[l];
+            layer_add_tk(bins, bnd, z0, 4, t, q.s[0][l], z);
+            layer_add_tk(bins, bnd, z0, 4, t + 1, q.s[1][l], z);
+            layer_add_tk(bins, bnd, z0, 4, t + w, q.s[2][l], z);
+            layer_add_tk(bins, bnd, z0, 4, t + w + 1, q.s[3][l], z);
+        }
+    }
+}
+#endif
+
 /* The same for any layout (planes, or texel-major with an uncommon K). */
 static void layers_inside(const float *rec, int w, const layer_out *o) {
     if (o->ks == 1 && o->K == 4) {
+#if SL_RASTER_SSE2
+        if (rec[10] == 1.0f) {
+            layers4_quads(rec, w, o);
+            return;
+        }
+#endif
         layers_inside_tk(rec, w, o, 4);
         return;
     }

@@ -208,7 +208,8 @@ TEST(raster_fast_path_matches_plain_loops) {
 }
 
 /* In-map samples exactly on texel boundaries (x - 0.5 and y - 0.5 integers) and between them,
- * where the fast path takes floor as a truncation (cpu/raster.c: tent_inside), and shares from
+ * where the fast path takes floor as a truncation (cpu/raster.c: tent_inside, and quad_load for
+ * the one-sample-wide records, half of these), and shares from
  * below 1 to above 2^32 (the rounding is one conversion on x86-64): z0 and the texel-major layers
  * (K = 4, the renderer's) equal the plain loops, which use sl_raster_tent and llrintf, bit for bit.
  * (A texel index one too low exactly on a boundary would give the same maps: the tent weight
