@@ -207,6 +207,48 @@ TEST(raster_fast_path_matches_plain_loops) {
     free(bb);
 }
 
+/* In-map samples exactly on texel boundaries (x - 0.5 and y - 0.5 integers) and between them,
+ * where the fast path takes floor as a truncation (cpu/raster.c: tent_inside, and quad_load for
+ * the one-sample-wide records, half of these), and shares from
+ * below 1 to above 2^32 (the rounding is one conversion on x86-64): z0 and the texel-major layers
+ * (K = 4, the renderer's) equal the plain loops, which use sl_raster_tent and llrintf, bit for bit.
+ * (A texel index one too low exactly on a boundary would give the same maps: the tent weight
+ * there is 0. A truncation that rounds instead fails this test and the one above.) */
+TEST(raster_fast_path_texel_edges) {
+    enum { N = 64, W = 32, H = 32, K = 4 };
+    float recs[N * SL_RASTER_REC];
+    uint64_t st = 5;
+    for (int s = 0; s < N; s++) {
+        float *r = recs + s * SL_RASTER_REC;
+        memset(r, 0, SL_RASTER_REC * sizeof *r);
+        r[0] = 4.5f + (float)(s % 16);     /* x - 0.5 an integer */
+        r[1] = 4.5f + (float)(s / 4 % 16); /* y - 0.5 an integer */
+        r[2] = (float)(3 * brand(&st));
+        r[3] = (s & 1) ? 0.5f : 0.25f; /* every other / every fourth sample on an edge again */
+        r[4] = (s & 2) ? 0.5f : 0.0f;
+        r[5] = (float)(0.1 * (brand(&st) - 0.5));
+        r[6] = (s & 4) ? 0.0f : 0.5f;
+        r[7] = (s & 4) ? 0.5f : 0.0f;
+        r[8] = s % 3 == 0 ? (float)(0.3 + brand(&st)) : (float)ldexp(1.0, 10 + s % 36);
+        r[9] = (float)(1 + s % 12);
+        r[10] = (float)(1 + s % 2);
+    }
+    uint32_t za[W * H], zb[W * H];
+    slc_raster_z0(recs, N, W, H, za);
+    naive_z0(recs, N, W, H, zb);
+    CHECK(!memcmp(za, zb, sizeof za));
+    static uint64_t bt[K * W * H], bc[K * W * H], bb[K * W * H];
+    naive_layers(recs, N, W, H, K, 0.02f, za, bb);
+    slc_dodm_cumulate(bb, W * H, K);
+    slc_raster_layers_texel(recs, N, W, H, K, 0.02f, za, bt);
+    slc_dodm_cumulate_texel(bt, W * H, K, bc);
+    CHECK(!memcmp(bb, bc, sizeof bb));
+    size_t deep = 0;
+    for (int t = 0; t < W * H; t++)
+        deep += bb[(size_t)(K - 1) * W * H + t] != bb[(size_t)(K - 2) * W * H + t];
+    CHECK(deep > 0); /* the last layer is reached: the layer choice is compared too */
+}
+
 /* sl_shadow_build_maps (the renderer's call: one batch, whole lobes per thread) gives every lobe
  * the map sl_shadow_build gives it alone, bit for bit, with 1 and 2 threads. */
 TEST(shadow_build_maps_equal_single_builds) {
