@@ -56,7 +56,9 @@ static int run_rows(sl_cl *cl, const char *name, const sl_fiber_params *fp, size
         return -1;
     }
     cl_mem bin = bufs->in, bout = bufs->out;
-    rc = sl_cl_check(clEnqueueWriteBuffer(q, bin, CL_FALSE, 0, in_bytes, in, 0, NULL, NULL),
+    /* blocking: the caller frees `in` as soon as this returns, also on an error below (a
+     * non-blocking write was still reading it then: a use-after-free under SL_CL_FAULT=lost) */
+    rc = sl_cl_check(clEnqueueWriteBuffer(q, bin, CL_TRUE, 0, in_bytes, in, 0, NULL, NULL),
                      "clEnqueueWriteBuffer(in)", e);
     cl_uint nn = (cl_uint)n, ww = (cl_uint)out_w, a = 0;
     if (!rc) {
