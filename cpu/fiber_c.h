@@ -12,6 +12,12 @@
  * f_TRT, f), orders + 3 per row (deon: f_0..f_orders, f_rest, f) or 5 (chiang: f_0, f_1, f_2,
  * f_rest, f). */
 void slc_scatter_batch(const sl_fiber_params *fp, size_t n, const float *in, float *out);
+/* The same with in_w floats per row (4 or 6): with 6, floats 4 and 5 are theta_i_lo and
+ * theta_o_lo, what rounding a double angle to float took off (|lo| <= 1.2e-7). Near a pole
+ * cos theta is below one float spacing of theta, and marschner's cos theta_i / cos^2 theta_d,
+ * and every model's 1 - F at grazing, need them (docs/numerics.md "Poles and tails"). */
+void slc_scatter_rows(const sl_fiber_params *fp, size_t n, const float *in, size_t in_w,
+                      float *out);
 /* Number of output floats per row of slc_scatter_batch for this material. */
 size_t slc_scatter_width(const sl_fiber_params *fp);
 /* in: v, theta_i, theta_o per row; out: M, log_M (d'Eon 2011 Eq. 7, no shift). */

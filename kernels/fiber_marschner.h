@@ -246,19 +246,28 @@ SL_INLINE float sl_mq_M(float theta_h, float alpha, float beta) {
     return exp(-x * x) / (SL_SQRT_PI_F * beta);
 }
 
-/* out = f_R, f_TT, f_TRT, f (numerics.md sec. 3) for one colour channel. */
-SL_INLINE void sl_marschner_scatter(const sl_fiber_params *fp, float theta_i, float phi_i,
-                                    float theta_o, float phi_o, float out[4]) {
-    /* theta_d with its rounding error (TwoSum), so cos theta_d stays accurate near +-pi/2. */
+/* out = f_R, f_TT, f_TRT, f (numerics.md sec. 3) for one colour channel, at the angles
+ * theta_i + theta_i_lo and theta_o + theta_o_lo: the _lo parts are what float rounding took off
+ * a double input (|lo| <= one float spacing, 1.2e-7 near pi/2; 0 when the input is a float).
+ * Near a pole cos theta ~ pi/2 - |theta| is below that spacing, so without them a float input
+ * cannot say how close to the pole it is, and cos theta_i / cos^2 theta_d (Marschner's
+ * projection factor, unbounded at opposite poles) is off by up to a factor of 1e9 (issue #21,
+ * docs/numerics.md "Poles and tails"). Both enter to first order (cos(x + lo) = cos x - lo sin x;
+ * the next term is below 1e-14 relative). */
+SL_INLINE void sl_marschner_scatter_lo(const sl_fiber_params *fp, float theta_i, float theta_i_lo,
+                                       float phi_i, float theta_o, float theta_o_lo, float phi_o,
+                                       float out[4]) {
+    /* theta_d with its rounding error (TwoSum) and the inputs' lo parts, so cos theta_d stays
+     * accurate near +-pi/2. */
     float s = theta_o - theta_i, bb = s - theta_o;
-    float err = (theta_o - (s - bb)) + (-theta_i - bb);
+    float err = (theta_o - (s - bb)) + (-theta_i - bb) + (theta_o_lo - theta_i_lo);
     float td = 0.5f * s, td_lo = 0.5f * err;
     float ctd0 = cos(td), std0 = sin(td);
     float cos_td = ctd0 - std0 * td_lo, sin_td = std0 + ctd0 * td_lo;
-    float theta_h = 0.5f * (theta_o + theta_i);
+    float theta_h = 0.5f * (theta_o + theta_i) + 0.5f * (theta_o_lo + theta_i_lo);
     float phi = sl_wrap_pi(phi_o - phi_i);
     cos_td = sl_maxf(cos_td, 1e-12f);
-    float cti = sl_maxf(cos(theta_i), 0.0f);
+    float cti = sl_maxf(cos(theta_i) - sin(theta_i) * theta_i_lo, 0.0f);
     float geo = (cti / cos_td) / cos_td; /* cos theta_i / cos^2 theta_d */
     float eta_trt =
         fp->eccentricity == 1.0f ? fp->eta : sl_eta_star(fp->eta, fp->eccentricity, phi_o + phi_i);
@@ -279,6 +288,12 @@ SL_INLINE void sl_marschner_scatter(const sl_fiber_params *fp, float theta_i, fl
         total += f;
     }
     out[3] = total;
+}
+
+/* The same at float angles (no lo parts). */
+SL_INLINE void sl_marschner_scatter(const sl_fiber_params *fp, float theta_i, float phi_i,
+                                    float theta_o, float phi_o, float out[4]) {
+    sl_marschner_scatter_lo(fp, theta_i, 0.0f, phi_i, theta_o, 0.0f, phi_o, out);
 }
 
 #endif

@@ -11,7 +11,7 @@
 #define SLCL_FILE "fiber.cl"
 
 /* Runs `name` over n rows of in_w floats giving out_w floats each. fp (may be NULL) is passed
- * by value as argument 0; then n, in, out and, when width_arg, out_w. */
+ * by value as argument 0; then n, in, out and, when width_arg, out_w and in_w. */
 static int run_rows(sl_cl *cl, const char *name, const sl_fiber_params *fp, size_t n,
                     const float *in, size_t in_w, float *out, size_t out_w, int width_arg,
                     sl_err *e) {
@@ -31,13 +31,16 @@ static int run_rows(sl_cl *cl, const char *name, const sl_fiber_params *fp, size
         clReleaseMemObject(bin);
         return -1;
     }
-    cl_uint nn = (cl_uint)n, ww = (cl_uint)out_w, a = 0;
+    cl_uint nn = (cl_uint)n, ww = (cl_uint)out_w, iw = (cl_uint)in_w, a = 0;
     sl_cl_args args = sl_cl_args_begin(k, e);
     if (fp) SL_CL_ARG(&args, a++, *fp);
     SL_CL_ARG(&args, a++, nn);
     SL_CL_ARG(&args, a++, bin);
     SL_CL_ARG(&args, a++, bout);
-    if (width_arg) SL_CL_ARG(&args, a++, ww);
+    if (width_arg) {
+        SL_CL_ARG(&args, a++, ww);
+        SL_CL_ARG(&args, a++, iw);
+    }
     rc = sl_cl_args_end(&args);
     if (!rc) {
         size_t local = 64, global = (n + local - 1) / local * local;
@@ -60,7 +63,12 @@ static int run_rows(sl_cl *cl, const char *name, const sl_fiber_params *fp, size
 
 int slcl_scatter_batch(sl_cl *cl, const sl_fiber_params *fp, size_t n, const float *in, float *out,
                        sl_err *e) {
-    return run_rows(cl, "sl_scatter_eval", fp, n, in, 4, out, slc_scatter_width(fp), 1, e);
+    return slcl_scatter_rows(cl, fp, n, in, 4, out, e);
+}
+
+int slcl_scatter_rows(sl_cl *cl, const sl_fiber_params *fp, size_t n, const float *in, size_t in_w,
+                      float *out, sl_err *e) {
+    return run_rows(cl, "sl_scatter_eval", fp, n, in, in_w, out, slc_scatter_width(fp), 1, e);
 }
 
 int slcl_deon_mp_batch(sl_cl *cl, size_t n, const float *in, float *out, sl_err *e) {

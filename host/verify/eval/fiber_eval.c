@@ -226,6 +226,20 @@ int sl_eval_check_backend(sl_eval_quantity q, sl_eval_backend b, const sl_materi
     return 0;
 }
 
+/* Model marschner's cos theta_i / cos^2 theta_d is 0/0 at the opposite poles (theta_i = -+pi/2,
+ * theta_o = +-pi/2) and grows like 1/(distance to the pole) near them, so its value there says
+ * more about how an angle was rounded than about the fiber (double(pi/2) is 6.1e-17 short of
+ * pi/2, float(pi/2) 4.4e-8 over it). Every backend therefore evaluates scatter at thetas at
+ * least SL_EVAL_POLE_GAP from the poles; further in, the contract's formula unchanged
+ * (docs/numerics.md "Poles and tails": 1e-9 rad is 1/100 of the nearest float to pi/2 and far
+ * above what the float backends resolve, ~1e-14 rad). */
+#define SL_EVAL_POLE_GAP 1e-9
+
+static double pole_clamp(double theta) {
+    double lim = PI / 2 - SL_EVAL_POLE_GAP;
+    return theta > lim ? lim : theta < -lim ? -lim : theta;
+}
+
 /* ---- reference: double, one row at a time ---- */
 
 static int run_reference(sl_eval_quantity q, const sl_material *m, int ch, size_t n,
@@ -241,7 +255,7 @@ static int run_reference(sl_eval_quantity q, const sl_material *m, int ch, size_
             else if (m->model == SL_MODEL_DEON)
                 slref_deon_scatter(m, ch, x[0], x[1], x[2], x[3], y);
             else
-                slref_marschner_scatter(m, ch, x[0], x[1], x[2], x[3], y);
+                slref_marschner_scatter(m, ch, pole_clamp(x[0]), x[1], pole_clamp(x[2]), x[3], y);
             break;
         case SL_EVAL_DEON_MP:
             y[1] = slref_deon_log_mp(x[0], x[1], x[2]);
@@ -280,12 +294,24 @@ static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, i
     const qdesc *d = &quantities[q];
     size_t nin = d->nin, nout = sl_eval_num_outputs(q, m);
     if (b == SL_EVAL_OPENCL && !cl) return sl_fail(e, "eval: --backend opencl needs a device");
-    float *fin = sl_malloc(n * nin * sizeof *fin);
+    /* scatter rows carry theta_i_lo, theta_o_lo after the 4 inputs (cpu/fiber_c.h) */
+    size_t fw = q == SL_EVAL_SCATTER ? 6 : nin;
+    float *fin = sl_malloc(n * fw * sizeof *fin);
     float *fout = sl_calloc(n * nout, sizeof *fout);
-    for (size_t i = 0; i < n * nin; i++)
-        fin[i] = to_float(in[i], d->in[i % nin].range);
+    for (size_t r = 0; r < n; r++)
+        for (size_t j = 0; j < nin; j++)
+            fin[r * fw + j] = to_float(in[r * nin + j], d->in[j].range);
     sl_fiber_params fp;
     if (m) sl_material_to_fiber(m, ch, &fp);
+    if (q == SL_EVAL_SCATTER)
+        for (size_t r = 0; r < n; r++)
+            for (int k = 0; k < 2; k++) { /* theta_i (column 0), theta_o (column 2) */
+                double t = in[r * nin + 2 * (size_t)k];
+                if (m && m->model == SL_MODEL_MARSCHNER) t = pole_clamp(t);
+                float hi = to_float(t, SL_RANGE_THETA);
+                fin[r * fw + 2 * (size_t)k] = hi;
+                fin[r * fw + 4 + (size_t)k] = (float)(t - (double)hi); /* t - hi is exact */
+            }
     int rc = 0;
     if (q == SL_EVAL_SRBF && mt == SL_EVAL_METHOD_TABLE) {
         /* the table of material m (disk cache, or built on the C path), then its lookup */
@@ -299,7 +325,7 @@ static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, i
     } else if (b == SL_EVAL_C) {
         switch (q) {
         case SL_EVAL_SCATTER:
-            slc_scatter_batch(&fp, n, fin, fout);
+            slc_scatter_rows(&fp, n, fin, fw, fout);
             break;
         case SL_EVAL_DEON_MP:
             slc_deon_mp_batch(n, fin, fout);
@@ -316,7 +342,7 @@ static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, i
     } else {
         switch (q) {
         case SL_EVAL_SCATTER:
-            rc = slcl_scatter_batch(cl, &fp, n, fin, fout, e);
+            rc = slcl_scatter_rows(cl, &fp, n, fin, fw, fout, e);
             break;
         case SL_EVAL_DEON_MP:
             rc = slcl_deon_mp_batch(cl, n, fin, fout, e);
