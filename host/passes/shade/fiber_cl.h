@@ -14,7 +14,7 @@
  * for chiang). */
 int slcl_scatter_batch(sl_cl *cl, const sl_fiber_params *fp, size_t n, const float *in, float *out,
                        sl_err *e);
-/* The same with in_w (4 or 6) floats per row, as slc_scatter_rows (cpu/fiber_c.h). */
+/* The same with in_w (4 or 8) floats per row, as slc_scatter_rows (cpu/fiber_c.h). */
 int slcl_scatter_rows(sl_cl *cl, const sl_fiber_params *fp, size_t n, const float *in, size_t in_w,
                       float *out, sl_err *e);
 /* in: v, theta_i, theta_o; out: M, log_M. */

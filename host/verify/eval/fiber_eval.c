@@ -231,9 +231,10 @@ int sl_eval_check_backend(sl_eval_quantity q, sl_eval_backend b, const sl_materi
  * more about how an angle was rounded than about the fiber (double(pi/2) is 6.1e-17 short of
  * pi/2, float(pi/2) 4.4e-8 over it). Every backend therefore evaluates scatter at thetas at
  * least SL_EVAL_POLE_GAP from the poles; further in, the contract's formula unchanged
- * (docs/numerics.md "Poles and tails": 1e-9 rad is 1/100 of the nearest float to pi/2 and far
- * above what the float backends resolve, ~1e-14 rad). */
-#define SL_EVAL_POLE_GAP 1e-9
+ * (docs/numerics.md "Poles and tails": with the theta_lo parts the float backends resolve the
+ * distance to a pole to ~1e-15 rad, measured 4e-5 relative error of f at 1e-10..1e-9 rad,
+ * 7e-4 at 1e-11..1e-10, so 1e-10 is the smallest gap that keeps them well inside 2e-3). */
+#define SL_EVAL_POLE_GAP 1e-10
 
 static double pole_clamp(double theta) {
     double lim = PI / 2 - SL_EVAL_POLE_GAP;
@@ -294,8 +295,9 @@ static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, i
     const qdesc *d = &quantities[q];
     size_t nin = d->nin, nout = sl_eval_num_outputs(q, m);
     if (b == SL_EVAL_OPENCL && !cl) return sl_fail(e, "eval: --backend opencl needs a device");
-    /* scatter rows carry theta_i_lo, theta_o_lo after the 4 inputs (cpu/fiber_c.h) */
-    size_t fw = q == SL_EVAL_SCATTER ? 6 : nin;
+    /* scatter rows carry theta_i_lo, theta_o_lo, phi_i_lo, phi_o_lo after the 4 inputs
+     * (cpu/fiber_c.h slc_scatter_rows) */
+    size_t fw = q == SL_EVAL_SCATTER ? 8 : nin;
     float *fin = sl_malloc(n * fw * sizeof *fin);
     float *fout = sl_calloc(n * nout, sizeof *fout);
     for (size_t r = 0; r < n; r++)
@@ -305,12 +307,15 @@ static int run_float(sl_eval_quantity q, sl_eval_backend b, sl_eval_method mt, i
     if (m) sl_material_to_fiber(m, ch, &fp);
     if (q == SL_EVAL_SCATTER)
         for (size_t r = 0; r < n; r++)
-            for (int k = 0; k < 2; k++) { /* theta_i (column 0), theta_o (column 2) */
-                double t = in[r * nin + 2 * (size_t)k];
-                if (m && m->model == SL_MODEL_MARSCHNER) t = pole_clamp(t);
-                float hi = to_float(t, SL_RANGE_THETA);
-                fin[r * fw + 2 * (size_t)k] = hi;
-                fin[r * fw + 4 + (size_t)k] = (float)(t - (double)hi); /* t - hi is exact */
+            for (size_t j = 0; j < 4; j++) { /* theta_i, phi_i, theta_o, phi_o */
+                double v = in[r * nin + j];
+                sl_eval_range rg = d->in[j].range;
+                if (rg == SL_RANGE_THETA && m && m->model == SL_MODEL_MARSCHNER) v = pole_clamp(v);
+                float hi = to_float(v, rg);
+                fin[r * fw + j] = hi;
+                /* lo slots: theta_i 4, theta_o 5, phi_i 6, phi_o 7; v - hi is exact in double */
+                fin[r * fw + (rg == SL_RANGE_THETA ? 4 + j / 2 : 6 + j / 2)] =
+                    (float)(v - (double)hi);
             }
     int rc = 0;
     if (q == SL_EVAL_SRBF && mt == SL_EVAL_METHOD_TABLE) {
