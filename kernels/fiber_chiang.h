@@ -41,7 +41,7 @@ typedef struct sl_chiang_geom {
 SL_INLINE void sl_chiang_geom_init_lo(const sl_fiber_params *fp, float theta_o, float to_lo,
                                       sl_chiang_geom *g) {
     float eta = fp->eta, so = sin(theta_o), co = cos(theta_o);
-    co = sl_maxf(co - so * to_lo, 0.0f);
+    co -= so * to_lo;
     so += cos(theta_o) * to_lo;
     g->eta = eta;
     g->cos_o = co;
