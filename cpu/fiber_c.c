@@ -16,14 +16,25 @@ size_t slc_scatter_width(const sl_fiber_params *fp) {
 }
 
 void slc_scatter_batch(const sl_fiber_params *fp, size_t n, const float *in, float *out) {
+    slc_scatter_rows(fp, n, in, 4, out);
+}
+
+void slc_scatter_rows(const sl_fiber_params *fp, size_t n, const float *in, size_t in_w,
+                      float *out) {
     size_t w = slc_scatter_width(fp);
     for (size_t i = 0; i < n; i++) {
-        const float *r = in + 4 * i;
+        const float *r = in + in_w * i;
         float *o = out + w * i;
-        if (fp->model == 2)
+        if (fp->model == 2 && in_w >= 8)
+            sl_chiang_scatter_lo(fp, r[0], r[1], r[2], r[5], r[3], o);
+        else if (fp->model == 2)
             sl_chiang_scatter(fp, r[0], r[1], r[2], r[3], o);
+        else if (fp->model == 1 && in_w >= 8)
+            sl_deon_scatter_lo(fp, r[0], r[4], r[1], r[2], r[5], r[3], o);
         else if (fp->model == 1)
             sl_deon_scatter(fp, r[0], r[1], r[2], r[3], o);
+        else if (in_w >= 8)
+            sl_marschner_scatter_lo(fp, r[0], r[4], r[1], r[6], r[2], r[5], r[3], r[7], o);
         else
             sl_marschner_scatter(fp, r[0], r[1], r[2], r[3], o);
     }

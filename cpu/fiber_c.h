@@ -12,6 +12,13 @@
  * f_TRT, f), orders + 3 per row (deon: f_0..f_orders, f_rest, f) or 5 (chiang: f_0, f_1, f_2,
  * f_rest, f). */
 void slc_scatter_batch(const sl_fiber_params *fp, size_t n, const float *in, float *out);
+/* The same with in_w floats per row (4 or 8): with 8, floats 4..7 are theta_i_lo, theta_o_lo,
+ * phi_i_lo, phi_o_lo, what rounding the double inputs to float took off (|lo| <= 2.4e-7). Near a
+ * pole cos theta is below one float spacing of theta, and near phi = +-pi so is marschner's
+ * N_R ~ cos(phi/2); there the lo parts decide the value (docs/numerics.md "Poles and tails").
+ * deon reads the theta lo parts, chiang theta_o_lo. */
+void slc_scatter_rows(const sl_fiber_params *fp, size_t n, const float *in, size_t in_w,
+                      float *out);
 /* Number of output floats per row of slc_scatter_batch for this material. */
 size_t slc_scatter_width(const sl_fiber_params *fp);
 /* in: v, theta_i, theta_o per row; out: M, log_M (d'Eon 2011 Eq. 7, no shift). */

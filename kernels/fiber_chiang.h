@@ -35,8 +35,14 @@ typedef struct sl_chiang_geom {
     float s, inv_sz; /* logistic scale, 1 / (s tanh(pi / 2s)) (trimmed normalisation) */
 } sl_chiang_geom;
 
-SL_INLINE void sl_chiang_geom_init(const sl_fiber_params *fp, float theta_o, sl_chiang_geom *g) {
+/* At theta_o + to_lo (to_lo: what rounding a double angle to float took off; 0 for a float
+ * input): near a pole 1 - f ~ cos theta_o, so A_1, A_2 ~ cos^2 theta_o, and only to_lo says what
+ * cos theta_o is there (docs/numerics.md "Poles and tails"). */
+SL_INLINE void sl_chiang_geom_init_lo(const sl_fiber_params *fp, float theta_o, float to_lo,
+                                      sl_chiang_geom *g) {
     float eta = fp->eta, so = sin(theta_o), co = cos(theta_o);
+    co -= so * to_lo;
+    so += cos(theta_o) * to_lo;
     g->eta = eta;
     g->cos_o = co;
     g->inv_etap = co / sqrt(eta * eta - so * so);
@@ -46,6 +52,10 @@ SL_INLINE void sl_chiang_geom_init(const sl_fiber_params *fp, float theta_o, sl_
     g->s = s;
     /* 1 - 2 cdf(-pi) = tanh(pi / 2s): no cancellation for small s */
     g->inv_sz = 1.0f / (s * tanh(0.5f * SL_PI_F / s));
+}
+
+SL_INLINE void sl_chiang_geom_init(const sl_fiber_params *fp, float theta_o, sl_chiang_geom *g) {
+    sl_chiang_geom_init_lo(fp, theta_o, 0.0f, g);
 }
 
 /* The trimmed logistic at x in [-2pi, 2pi] (wrapped here to [-pi, pi]): e^{-|x|/s} / (s (1 +
@@ -142,10 +152,11 @@ SL_INLINE float sl_chiang_log_mp(const sl_fiber_params *fp, int p, float theta_i
 }
 
 /* The scattering function with an explicit panel count: out = f_0, f_1, f_2, f_rest, f. */
-SL_INLINE void sl_chiang_scatter_panels(const sl_fiber_params *fp, float theta_i, float phi_i,
-                                        float theta_o, float phi_o, int panels, float *out) {
+SL_INLINE void sl_chiang_scatter_panels_lo(const sl_fiber_params *fp, float theta_i, float phi_i,
+                                           float theta_o, float to_lo, float phi_o, int panels,
+                                           float *out) {
     sl_chiang_geom g;
-    sl_chiang_geom_init(fp, theta_o, &g);
+    sl_chiang_geom_init_lo(fp, theta_o, to_lo, &g);
     float np[3], e_rest;
     sl_chiang_azimuthal(&g, sl_wrap_pi(phi_o - phi_i), panels, np, &e_rest);
     float total = 0.0f;
@@ -157,6 +168,19 @@ SL_INLINE void sl_chiang_scatter_panels(const sl_fiber_params *fp, float theta_i
     float fr = exp(sl_chiang_log_mp(fp, 3, theta_i, theta_o)) * e_rest * (1.0f / SL_TWO_PI_F);
     out[3] = fr;
     out[4] = total + fr;
+}
+
+SL_INLINE void sl_chiang_scatter_panels(const sl_fiber_params *fp, float theta_i, float phi_i,
+                                        float theta_o, float phi_o, int panels, float *out) {
+    sl_chiang_scatter_panels_lo(fp, theta_i, phi_i, theta_o, 0.0f, phi_o, panels, out);
+}
+
+/* The same at theta_o + to_lo (see sl_chiang_geom_init_lo; M_p does not need theta's lo parts:
+ * it is smooth at the poles). */
+SL_INLINE void sl_chiang_scatter_lo(const sl_fiber_params *fp, float theta_i, float phi_i,
+                                    float theta_o, float to_lo, float phi_o, float *out) {
+    sl_chiang_scatter_panels_lo(fp, theta_i, phi_i, theta_o, to_lo, phi_o,
+                                sl_chiang_default_panels(fp), out);
 }
 
 /* numerics.md sec. 3 "chiang": 5 values f_0, f_1, f_2, f_rest, f. */

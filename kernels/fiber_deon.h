@@ -119,13 +119,19 @@ typedef struct sl_deon_geom {
     float eta, etap, cos_td, sig;
 } sl_deon_geom;
 
-SL_INLINE void sl_deon_geom_init(const sl_fiber_params *fp, float theta_i, float theta_o,
-                                 sl_deon_geom *g) {
+/* At theta_i + ti_lo, theta_o + to_lo (the _lo parts: what rounding a double angle to float took
+ * off; 0 for float inputs). 1 - f ~ cos theta_d at grazing, so A(p >= 1) ~ cos^2 theta_d, and
+ * near opposite poles only the lo parts say what cos theta_d is (docs/numerics.md "Poles and
+ * tails"). */
+SL_INLINE void sl_deon_geom_init_lo(const sl_fiber_params *fp, float theta_i, float ti_lo,
+                                    float theta_o, float to_lo, sl_deon_geom *g) {
     /* cos theta_d = sin(pi/2 - |theta_d|), pi/2 - |theta_d| = ((pi/2 - hi) + (pi/2 + lo))/2
      * with hi/lo the larger/smaller of theta_i, theta_o: no cancellation near grazing. */
-    float hi = sl_maxf(theta_i, theta_o), lo = sl_minf(theta_i, theta_o);
-    float comp = 0.5f * (((SL_DEON_PIO2_HI - hi) + SL_DEON_PIO2_LO) +
-                         ((SL_DEON_PIO2_HI + lo) + SL_DEON_PIO2_LO));
+    int o_hi = theta_o >= theta_i;
+    float hi = o_hi ? theta_o : theta_i, lo = o_hi ? theta_i : theta_o;
+    float hi_l = o_hi ? to_lo : ti_lo, lo_l = o_hi ? ti_lo : to_lo;
+    float comp = 0.5f * ((((SL_DEON_PIO2_HI - hi) + SL_DEON_PIO2_LO) - hi_l) +
+                         (((SL_DEON_PIO2_HI + lo) + SL_DEON_PIO2_LO) + lo_l));
     float cos_td = sin(sl_maxf(comp, 0.0f));
     float sin_td = sin(0.5f * (theta_o - theta_i));
     float eta = fp->eta;
@@ -134,6 +140,11 @@ SL_INLINE void sl_deon_geom_init(const sl_fiber_params *fp, float theta_i, float
     g->etap = sqrt(eta * eta - sin_td * sin_td) / sl_maxf(cos_td, 1e-30f);
     float st = sin_td / eta;
     g->sig = fp->sigma_a / sqrt(1.0f - st * st);
+}
+
+SL_INLINE void sl_deon_geom_init(const sl_fiber_params *fp, float theta_i, float theta_o,
+                                 sl_deon_geom *g) {
+    sl_deon_geom_init_lo(fp, theta_i, 0.0f, theta_o, 0.0f, g);
 }
 
 /* Fresnel factor f (exact, at cos i = cos theta_d cos gamma_i) and T at h = sin(gamma). */
@@ -202,12 +213,13 @@ SL_INLINE void sl_deon_azimuthal(const sl_fiber_params *fp, const sl_deon_geom *
 /* The scattering function in float: out[p] = f_p (p = 0..orders), out[orders+1] = f_rest,
  * out[orders+2] = f, with an explicit panel count (the furnace uses a small fixed one: the
  * azimuthal integral of the sampled N_p is exact whatever the panel count). */
-SL_INLINE void sl_deon_scatter_panels(const sl_fiber_params *fp, float theta_i, float phi_i,
-                                      float theta_o, float phi_o, int panels, float *out) {
+SL_INLINE void sl_deon_scatter_panels_lo(const sl_fiber_params *fp, float theta_i, float ti_lo,
+                                         float phi_i, float theta_o, float to_lo, float phi_o,
+                                         int panels, float *out) {
     int n = fp->orders;
     if (n > SL_DEON_MAX_ORDERS) n = SL_DEON_MAX_ORDERS;
     sl_deon_geom g;
-    sl_deon_geom_init(fp, theta_i, theta_o, &g);
+    sl_deon_geom_init_lo(fp, theta_i, ti_lo, theta_o, to_lo, &g);
     float np[SL_DEON_MAX_ORDERS + 1];
     float e_rest;
     sl_deon_azimuthal(fp, &g, sl_wrap_pi(phi_o - phi_i), n, panels, np, &e_rest);
@@ -226,10 +238,23 @@ SL_INLINE void sl_deon_scatter_panels(const sl_fiber_params *fp, float theta_i, 
     out[n + 2] = total + fr;
 }
 
+SL_INLINE void sl_deon_scatter_panels(const sl_fiber_params *fp, float theta_i, float phi_i,
+                                      float theta_o, float phi_o, int panels, float *out) {
+    sl_deon_scatter_panels_lo(fp, theta_i, 0.0f, phi_i, theta_o, 0.0f, phi_o, panels, out);
+}
+
 /* numerics.md sec. 3 "deon": orders+3 values f_0..f_orders, f_rest, f. */
 SL_INLINE void sl_deon_scatter(const sl_fiber_params *fp, float theta_i, float phi_i, float theta_o,
                                float phi_o, float *out) {
     sl_deon_scatter_panels(fp, theta_i, phi_i, theta_o, phi_o, sl_deon_default_panels(fp), out);
+}
+
+/* The same at theta_i + ti_lo, theta_o + to_lo (see sl_deon_geom_init_lo). */
+SL_INLINE void sl_deon_scatter_lo(const sl_fiber_params *fp, float theta_i, float ti_lo,
+                                  float phi_i, float theta_o, float to_lo, float phi_o,
+                                  float *out) {
+    sl_deon_scatter_panels_lo(fp, theta_i, ti_lo, phi_i, theta_o, to_lo, phi_o,
+                              sl_deon_default_panels(fp), out);
 }
 
 #endif

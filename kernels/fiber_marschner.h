@@ -160,10 +160,33 @@ SL_INLINE float sl_mq_solve(int p, float inv_etap, float y, float a, float b, fl
     return x;
 }
 
-/* N_R: the one root h = -sin(phi/2), cos gamma_i = cos(phi/2), 1/|dPhi/dh| = cos(phi/2)/2. */
-SL_INLINE float sl_mq_N_R(const sl_mq_mode *c, float phi) {
-    float cu = fabs(cos(0.5f * phi));
-    return sl_mq_A(c, -sin(0.5f * phi), cu) * cu * 0.25f;
+/* N_R: the one root h = -sin(phi/2), cos gamma_i = cos(phi/2), 1/|dPhi/dh| = cos(phi/2)/2, at
+ * phi + phi_lo: near phi = +-pi (h -> +-1, R's far tail) cos(phi/2) is below one float spacing
+ * of phi, so phi_lo enters to first order (next term below 1e-14 relative). */
+SL_INLINE float sl_mq_N_R(const sl_mq_mode *c, float phi, float phi_lo) {
+    float ch = cos(0.5f * phi), sh = sin(0.5f * phi), d = 0.5f * phi_lo;
+    float cu = fabs(ch - sh * d);
+    return sl_mq_A(c, -(sh + ch * d), cu) * cu * 0.25f;
+}
+
+/* wrap(phi_o - phi_i) to (-pi, pi] as *lo + the returned float, from inputs phi + phi_lo: TwoSum
+ * for the difference and 2 pi split in two floats (float(2 pi) is 1.7e-7 off), so phi near +-pi
+ * keeps its distance to the wrap point. */
+SL_INLINE float sl_mq_phi_lo(float phi_i, float pi_lo, float phi_o, float po_lo, float *lo) {
+    const float two_pi_hi = 6.28318548202514648438f, two_pi_lo = -1.74845553146951715e-7f;
+    const float pi_hi = 3.14159274101257324219f, pi_lo_c = -8.74227765734758577e-8f;
+    float s = phi_o - phi_i, bb = s - phi_o;
+    float e = (phi_o - (s - bb)) + (-phi_i - bb) + (po_lo - pi_lo);
+    /* s in [-2 pi, 2 pi]: s -+ two_pi_hi is exact there (Sterbenz) */
+    if ((s - pi_hi) + (e - pi_lo_c) > 0.0f) {
+        s -= two_pi_hi;
+        e -= two_pi_lo;
+    } else if ((s + pi_hi) + (e + pi_lo_c) <= 0.0f) {
+        s += two_pi_hi;
+        e += two_pi_lo;
+    }
+    *lo = e;
+    return s;
 }
 
 /* N_TT: psi_1 decreases from pi - 2 asin(1/eta') to its negative over u in [-pi/2, pi/2]. */
@@ -246,19 +269,28 @@ SL_INLINE float sl_mq_M(float theta_h, float alpha, float beta) {
     return exp(-x * x) / (SL_SQRT_PI_F * beta);
 }
 
-/* out = f_R, f_TT, f_TRT, f (numerics.md sec. 3) for one colour channel. */
-SL_INLINE void sl_marschner_scatter(const sl_fiber_params *fp, float theta_i, float phi_i,
-                                    float theta_o, float phi_o, float out[4]) {
-    /* theta_d with its rounding error (TwoSum), so cos theta_d stays accurate near +-pi/2. */
+/* out = f_R, f_TT, f_TRT, f (numerics.md sec. 3) for one colour channel, at the angles
+ * theta_i + theta_i_lo, phi_i + phi_i_lo, ...: the _lo parts are what float rounding took off a
+ * double input (|lo| <= one float spacing, 1.2e-7 near pi/2; 0 when the input is a float).
+ * Near a pole cos theta ~ pi/2 - |theta| is below that spacing, so without them a float input
+ * cannot say how close to the pole it is, and cos theta_i / cos^2 theta_d (Marschner's
+ * projection factor, unbounded at opposite poles) is off by up to a factor of 1e9 (issue #21,
+ * docs/numerics.md "Poles and tails"); likewise N_R ~ cos(phi/2) near phi = +-pi. They enter to
+ * first order (cos(x + lo) = cos x - lo sin x; the next term is below 1e-14 relative). */
+SL_INLINE void sl_marschner_scatter_lo(const sl_fiber_params *fp, float theta_i, float theta_i_lo,
+                                       float phi_i, float phi_i_lo, float theta_o, float theta_o_lo,
+                                       float phi_o, float phi_o_lo, float out[4]) {
+    /* theta_d with its rounding error (TwoSum) and the inputs' lo parts, so cos theta_d stays
+     * accurate near +-pi/2. */
     float s = theta_o - theta_i, bb = s - theta_o;
-    float err = (theta_o - (s - bb)) + (-theta_i - bb);
+    float err = (theta_o - (s - bb)) + (-theta_i - bb) + (theta_o_lo - theta_i_lo);
     float td = 0.5f * s, td_lo = 0.5f * err;
     float ctd0 = cos(td), std0 = sin(td);
     float cos_td = ctd0 - std0 * td_lo, sin_td = std0 + ctd0 * td_lo;
-    float theta_h = 0.5f * (theta_o + theta_i);
-    float phi = sl_wrap_pi(phi_o - phi_i);
+    float theta_h = 0.5f * (theta_o + theta_i) + 0.5f * (theta_o_lo + theta_i_lo);
+    float phi_lo, phi = sl_mq_phi_lo(phi_i, phi_i_lo, phi_o, phi_o_lo, &phi_lo);
     cos_td = sl_maxf(cos_td, 1e-12f);
-    float cti = sl_maxf(cos(theta_i), 0.0f);
+    float cti = sl_maxf(cos(theta_i) - sin(theta_i) * theta_i_lo, 0.0f);
     float geo = (cti / cos_td) / cos_td; /* cos theta_i / cos^2 theta_d */
     float eta_trt =
         fp->eccentricity == 1.0f ? fp->eta : sl_eta_star(fp->eta, fp->eccentricity, phi_o + phi_i);
@@ -270,7 +302,7 @@ SL_INLINE void sl_marschner_scatter(const sl_fiber_params *fp, float theta_i, fl
         if (M > 0.0f && geo > 0.0f &&
             sl_mq_mode_setup(&c, fp, t, t == 2 ? eta_trt : fp->eta, cos_td, sin_td)) {
             float N =
-                t == 0 ? sl_mq_N_R(&c, phi)
+                t == 0 ? sl_mq_N_R(&c, phi, phi_lo)
                        : (t == 1 ? sl_mq_N_TT(&c, phi) : sl_mq_N_TRT(&c, phi, fp->caustic_width));
             f = M * N * geo;
             if (!(f <= SL_FLT_MAX)) f = 0.0f; /* NaN or Inf: cannot happen for inputs in range */
@@ -279,6 +311,12 @@ SL_INLINE void sl_marschner_scatter(const sl_fiber_params *fp, float theta_i, fl
         total += f;
     }
     out[3] = total;
+}
+
+/* The same at float angles (no lo parts). */
+SL_INLINE void sl_marschner_scatter(const sl_fiber_params *fp, float theta_i, float phi_i,
+                                    float theta_o, float phi_o, float out[4]) {
+    sl_marschner_scatter_lo(fp, theta_i, 0.0f, phi_i, 0.0f, theta_o, 0.0f, phi_o, 0.0f, out);
 }
 
 #endif

@@ -34,8 +34,8 @@ void slcl_rows_bufs_release(slcl_rows_bufs *b) {
 }
 
 /* Runs `name` over n rows of in_w floats giving out_w floats each. fp (may be NULL) is passed
- * by value as argument 0; then n, in, out and, when width_arg, out_w. keep (may be NULL): the
- * caller's buffers to reuse. */
+ * by value as argument 0; then n, in, out and, when width_arg, out_w and in_w. keep (may be
+ * NULL): the caller's buffers to reuse. */
 static int run_rows(sl_cl *cl, const char *name, const sl_fiber_params *fp, size_t n,
                     const float *in, size_t in_w, float *out, size_t out_w, int width_arg,
                     slcl_rows_bufs *keep, sl_err *e) {
@@ -60,14 +60,17 @@ static int run_rows(sl_cl *cl, const char *name, const sl_fiber_params *fp, size
      * non-blocking write was still reading it then: a use-after-free under SL_CL_FAULT=lost) */
     rc = sl_cl_check(clEnqueueWriteBuffer(q, bin, CL_TRUE, 0, in_bytes, in, 0, NULL, NULL),
                      "clEnqueueWriteBuffer(in)", e);
-    cl_uint nn = (cl_uint)n, ww = (cl_uint)out_w, a = 0;
+    cl_uint nn = (cl_uint)n, ww = (cl_uint)out_w, iw = (cl_uint)in_w, a = 0;
     if (!rc) {
         sl_cl_args args = sl_cl_args_begin(k, e);
         if (fp) SL_CL_ARG(&args, a++, *fp);
         SL_CL_ARG(&args, a++, nn);
         SL_CL_ARG(&args, a++, bin);
         SL_CL_ARG(&args, a++, bout);
-        if (width_arg) SL_CL_ARG(&args, a++, ww);
+        if (width_arg) {
+            SL_CL_ARG(&args, a++, ww);
+            SL_CL_ARG(&args, a++, iw);
+        }
         rc = sl_cl_args_end(&args);
     }
     if (!rc) {
@@ -89,7 +92,7 @@ static int run_rows(sl_cl *cl, const char *name, const sl_fiber_params *fp, size
 
 int slcl_scatter_batch(sl_cl *cl, const sl_fiber_params *fp, size_t n, const float *in, float *out,
                        sl_err *e) {
-    return slcl_scatter_rows(cl, fp, n, in, out, NULL, e);
+    return slcl_scatter_rows(cl, fp, n, in, 4, out, NULL, e);
 }
 
 int slcl_deon_mp_batch(sl_cl *cl, size_t n, const float *in, float *out, sl_err *e) {
@@ -101,9 +104,9 @@ int slcl_furnace_batch(sl_cl *cl, const sl_fiber_params *fp, size_t n, const flo
     return slcl_furnace_rows(cl, fp, n, in, out, NULL, e);
 }
 
-int slcl_scatter_rows(sl_cl *cl, const sl_fiber_params *fp, size_t n, const float *in, float *out,
-                      slcl_rows_bufs *b, sl_err *e) {
-    return run_rows(cl, "sl_scatter_eval", fp, n, in, 4, out, slc_scatter_width(fp), 1, b, e);
+int slcl_scatter_rows(sl_cl *cl, const sl_fiber_params *fp, size_t n, const float *in, size_t in_w,
+                      float *out, slcl_rows_bufs *b, sl_err *e) {
+    return run_rows(cl, "sl_scatter_eval", fp, n, in, in_w, out, slc_scatter_width(fp), 1, b, e);
 }
 
 int slcl_deon_mp_rows(sl_cl *cl, size_t n, const float *in, float *out, slcl_rows_bufs *b,

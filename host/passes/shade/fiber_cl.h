@@ -30,9 +30,10 @@ typedef struct slcl_rows_bufs {
 } slcl_rows_bufs;
 void slcl_rows_bufs_release(slcl_rows_bufs *b);
 /* The three batches above with kept buffers (b may be NULL: per-call buffers); the same
- * results. */
-int slcl_scatter_rows(sl_cl *cl, const sl_fiber_params *fp, size_t n, const float *in, float *out,
-                      slcl_rows_bufs *b, sl_err *e);
+ * results. scatter: in_w (4 or 8) floats per row, as slc_scatter_rows (cpu/fiber_c.h: with 8,
+ * each angle's float rounding remainder follows). */
+int slcl_scatter_rows(sl_cl *cl, const sl_fiber_params *fp, size_t n, const float *in, size_t in_w,
+                      float *out, slcl_rows_bufs *b, sl_err *e);
 int slcl_deon_mp_rows(sl_cl *cl, size_t n, const float *in, float *out, slcl_rows_bufs *b,
                       sl_err *e);
 int slcl_furnace_rows(sl_cl *cl, const sl_fiber_params *fp, size_t n, const float *in, float *out,

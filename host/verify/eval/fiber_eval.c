@@ -227,6 +227,21 @@ int sl_eval_check_backend(sl_eval_quantity q, sl_eval_backend b, const sl_materi
     return 0;
 }
 
+/* Model marschner's cos theta_i / cos^2 theta_d is 0/0 at the opposite poles (theta_i = -+pi/2,
+ * theta_o = +-pi/2) and grows like 1/(distance to the pole) near them, so its value there says
+ * more about how an angle was rounded than about the fiber (double(pi/2) is 6.1e-17 short of
+ * pi/2, float(pi/2) 4.4e-8 over it). Every backend therefore evaluates scatter at thetas at
+ * least SL_EVAL_POLE_GAP from the poles; further in, the contract's formula unchanged
+ * (docs/numerics.md "Poles and tails": with the theta_lo parts the float backends resolve the
+ * distance to a pole to ~1e-15 rad, measured 4e-5 relative error of f at 1e-10..1e-9 rad,
+ * 7e-4 at 1e-11..1e-10, so 1e-10 is the smallest gap that keeps them well inside 2e-3). */
+#define SL_EVAL_POLE_GAP 1e-10
+
+static double pole_clamp(double theta) {
+    double lim = PI / 2 - SL_EVAL_POLE_GAP;
+    return theta > lim ? lim : theta < -lim ? -lim : theta;
+}
+
 /* ---- reference: double, one row at a time ---- */
 
 static int run_reference(sl_eval_quantity q, const sl_material *m, int ch, size_t n,
@@ -242,7 +257,7 @@ static int run_reference(sl_eval_quantity q, const sl_material *m, int ch, size_
             else if (m->model == SL_MODEL_DEON)
                 slref_deon_scatter(m, ch, x[0], x[1], x[2], x[3], y);
             else
-                slref_marschner_scatter(m, ch, x[0], x[1], x[2], x[3], y);
+                slref_marschner_scatter(m, ch, pole_clamp(x[0]), x[1], pole_clamp(x[2]), x[3], y);
             break;
         case SL_EVAL_DEON_MP:
             y[1] = slref_deon_log_mp(x[0], x[1], x[2]);
@@ -306,12 +321,28 @@ static int run_float(sl_eval_session *s, sl_eval_quantity q, sl_eval_backend b, 
     const qdesc *d = &quantities[q];
     size_t nin = d->nin, nout = sl_eval_num_outputs(q, m);
     if (b == SL_EVAL_OPENCL && !cl) return sl_fail(e, "eval: --backend opencl needs a device");
-    float *fin = sl_malloc(n * nin * sizeof *fin);
+    /* scatter rows carry theta_i_lo, theta_o_lo, phi_i_lo, phi_o_lo after the 4 inputs
+     * (cpu/fiber_c.h slc_scatter_rows) */
+    size_t fw = q == SL_EVAL_SCATTER ? 8 : nin;
+    float *fin = sl_malloc(n * fw * sizeof *fin);
     float *fout = sl_calloc(n * nout, sizeof *fout);
-    for (size_t i = 0; i < n * nin; i++)
-        fin[i] = to_float(in[i], d->in[i % nin].range);
+    for (size_t r = 0; r < n; r++)
+        for (size_t j = 0; j < nin; j++)
+            fin[r * fw + j] = to_float(in[r * nin + j], d->in[j].range);
     sl_fiber_params fp;
     if (m) sl_material_to_fiber(m, ch, &fp);
+    if (q == SL_EVAL_SCATTER)
+        for (size_t r = 0; r < n; r++)
+            for (size_t j = 0; j < 4; j++) { /* theta_i, phi_i, theta_o, phi_o */
+                double v = in[r * nin + j];
+                sl_eval_range rg = d->in[j].range;
+                if (rg == SL_RANGE_THETA && m && m->model == SL_MODEL_MARSCHNER) v = pole_clamp(v);
+                float hi = to_float(v, rg);
+                fin[r * fw + j] = hi;
+                /* lo slots: theta_i 4, theta_o 5, phi_i 6, phi_o 7; v - hi is exact in double */
+                fin[r * fw + (rg == SL_RANGE_THETA ? 4 + j / 2 : 6 + j / 2)] =
+                    (float)(v - (double)hi);
+            }
     int rc = 0;
     if (q == SL_EVAL_SRBF && mt == SL_EVAL_METHOD_TABLE) {
         /* the table of material m (disk cache, or built on the C path; once per session), then
@@ -329,7 +360,7 @@ static int run_float(sl_eval_session *s, sl_eval_quantity q, sl_eval_backend b, 
     } else if (b == SL_EVAL_C) {
         switch (q) {
         case SL_EVAL_SCATTER:
-            slc_scatter_batch(&fp, n, fin, fout);
+            slc_scatter_rows(&fp, n, fin, fw, fout);
             break;
         case SL_EVAL_DEON_MP:
             slc_deon_mp_batch(n, fin, fout);
@@ -350,7 +381,7 @@ static int run_float(sl_eval_session *s, sl_eval_quantity q, sl_eval_backend b, 
     } else {
         switch (q) {
         case SL_EVAL_SCATTER:
-            rc = slcl_scatter_rows(cl, &fp, n, fin, fout, &s->rows, e);
+            rc = slcl_scatter_rows(cl, &fp, n, fin, fw, fout, &s->rows, e);
             break;
         case SL_EVAL_DEON_MP:
             rc = slcl_deon_mp_rows(cl, n, fin, fout, &s->rows, e);
