@@ -90,7 +90,7 @@ int sl_renderer_set_strand_sigma_a(sl_renderer *r, const float *sigma_a, uint32_
     free(r->strand_sigma_a);
     r->strand_sigma_a = NULL;
     r->strand_sigma_a_n = 0;
-    r->strand_key = 0;
+    r->strand_key = r->strand_nodes_key = 0;
     if (!sigma_a) return 0;
     for (size_t i = 0; i < 3 * (size_t)n; i++)
         if (!(sigma_a[i] >= 0.0f) || !isfinite(sigma_a[i]))
@@ -100,6 +100,9 @@ int sl_renderer_set_strand_sigma_a(sl_renderer *r, const float *sigma_a, uint32_
     memcpy(r->strand_sigma_a, sigma_a, 3 * (size_t)n * sizeof *sigma_a);
     r->strand_sigma_a_n = n;
     r->strand_key = sl_hash64(sigma_a, 3 * (size_t)n * sizeof *sigma_a, 0x5354524e) | 1;
+    sl_volume_ms_nodes nd;
+    sl_volume_ms_nodes_place(sigma_a, n, &nd);
+    r->strand_nodes_key = nd.key;
     return 0;
 }
 

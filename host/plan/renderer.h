@@ -63,6 +63,9 @@ struct sl_renderer {
     float *strand_sigma_a;
     uint32_t strand_sigma_a_n;
     uint64_t strand_key;
+    /* the key of the sigma_a nodes of strand_sigma_a (sl_volume_ms_nodes_place), taken when it
+     * is set: the ms table pass's setting */
+    uint64_t strand_nodes_key;
     /* Ren 2010's table (docs/frame.md, "SRBF method"): built or loaded by the planner, kept
      * while the material is unchanged (sl_srbf_ren_matches); ren_mem: the table resident on the
      * OpenCL device (uploaded once per table) when shading runs there */

@@ -66,10 +66,7 @@ uint64_t sl_dual_settings(const sl_renderer *r, const sl_frame_inputs *in) {
 
 uint64_t sl_ms_table_settings(const sl_renderer *r, const sl_frame_inputs *in) {
     (void)in;
-    if (!r->strand_sigma_a) return 0x4d53;
-    sl_volume_ms_nodes nd;
-    sl_volume_ms_nodes_place(r->strand_sigma_a, r->strand_sigma_a_n, &nd);
-    return nd.key;
+    return r->strand_sigma_a ? r->strand_nodes_key : 0x4d53;
 }
 
 int sl_ms_needed(const sl_renderer *r, const sl_frame_inputs *in) {
