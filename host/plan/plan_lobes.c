@@ -88,10 +88,10 @@ static void hash_lobes(sl_renderer *r) {
 /* broad lobes (docs/shadow.md, "Broad lobes"): with quality.broad_lobes subdivide, every used
  * lobe with lambda > SL_SUBDIV_LAMBDA_MIN becomes narrower sub-lobes that sum to it
  * (host/lighting/lobe_subdivide.h), so every pass below (light, march, lookup, shade) sees narrow
- * lobes, each with its own transmittance and response. The budget is the split's: lobes
- * (one map each) plus split maps <= SL_SHADOW_SPLIT_MAPS_PER_LOBE x the used lobes (at least
- * SL_SUBDIV_MIN_BUDGET). The fit takes ~1 ms per broad lobe and is redone each frame; the
- * sub-lobes are deterministic, so an orbit's light pass still finds its maps by key. */
+ * lobes, each with its own transmittance and response. The budget is the split's with the broad
+ * light as one lobe: lobes (one map each) plus split maps <= SL_SHADOW_SPLIT_MAPS_PER_LOBE x
+ * (narrow lobes + 1), at least SL_SUBDIV_MIN_BUDGET. The fit is redone each frame; the sub-lobes
+ * are deterministic, so an orbit's light pass still finds its maps by key. */
 int sl_pass_subdivide(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     (void)e;
     sl_frame_work *w = &r->fw;
@@ -103,9 +103,17 @@ int sl_pass_subdivide(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
         hash_lobes(r);
         return 0;
     }
-    int budget = SL_SHADOW_SPLIT_MAPS_PER_LOBE * w->nused, nbroad = 0, nsub = 0;
+    /* the broad light is one function (lobe_subdivide.h): it counts as one lobe of the split's
+     * budget, whatever the number of lobes it was cut into, so the budget (and the image) does
+     * not change with the cut */
+    int nnarrow = 0, nbroad = 0, nsub = 0;
+    for (int j = 0; j < w->nused; j++)
+        nnarrow += !(in->lobes->lobe[w->used[j]].lambda > SL_SUBDIV_LAMBDA_MIN);
+    int budget = SL_SHADOW_SPLIT_MAPS_PER_LOBE * (nnarrow + 1);
     if (budget < SL_SUBDIV_MIN_BUDGET) budget = SL_SUBDIV_MIN_BUDGET;
-    sl_lobes_subdivide(in->lobes, w->used, w->nused, budget, NULL, &w->sub, NULL, &nbroad, &nsub);
+    double fit_l2 = 0;
+    sl_lobes_subdivide(in->lobes, w->used, w->nused, budget, NULL, &w->sub, &nbroad, &nsub,
+                       &fit_l2);
     if (nbroad > 0) {
         w->fl = &w->sub;
         free(w->used);
@@ -119,9 +127,11 @@ int sl_pass_subdivide(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
         }
         w->extra_maps = budget - w->nused > 0 ? budget - w->nused : 0;
         sl_frame_why(r,
-                     "%d broad lobes (lambda > %.2g) subdivided into %d sub-lobes: %d lobes "
-                     "shaded, at most %d deep opacity maps (quality.broad_lobes subdivide)",
-                     nbroad, SL_SUBDIV_LAMBDA_MIN, nsub, w->nused, w->nused + w->extra_maps);
+                     "%d broad lobes (lambda > %.2g) fitted together by %d sub-lobes (rel. L2 "
+                     "%.2f): %d lobes shaded, at most %d deep opacity maps (quality.broad_lobes "
+                     "subdivide)",
+                     nbroad, SL_SUBDIV_LAMBDA_MIN, nsub, fit_l2, w->nused,
+                     w->nused + w->extra_maps);
     } else {
         r->rec_state = SL_PASS_SKIPPED;
         sl_frame_why(r, "no used lobe broader than lambda %.2g (quality.broad_lobes subdivide)",

@@ -22,6 +22,7 @@ TEST(common_path_helpers) {
 TEST(common_atomic_abort_leaves_nothing) {
     char path[512];
     snprintf(path, sizeof path, "%s/atomic/out.txt", sl_test_tmpdir());
+    remove(path); /* a run before this one (same test directory) left its committed file */
     sl_atomic_file af;
     sl_err e;
     CHECK(sl_atomic_open(&af, path, &e) == 0);
