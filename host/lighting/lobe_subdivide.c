@@ -13,6 +13,7 @@ void sl_subdiv_params_default(sl_subdiv_params *p) {
     p->ratio = SL_SUBDIV_RATIO;
     p->cut = SL_SUBDIV_CUT;
     p->samples = SL_SUBDIV_SAMPLES;
+    p->width = SL_SUBDIV_WIDTH;
 }
 
 /* Solves the n x n system A x = b (A, b overwritten) by Gaussian elimination with partial
@@ -160,8 +161,7 @@ static int set_kept(const sl_lobe *const *b, int nb, const double axis[3], int M
  * 4096-point set kept, less a fifth), up to the last M before the first that keeps more than nmax,
  * or down to the first that fits. Deterministic for a given light; 0 when no M keeps
  * SL_SUBDIV_MIN directions. */
-static int set_size(const sl_lobe *const *b, int nb, const double axis[3], double level,
-                    int nmax) {
+static int set_size(const sl_lobe *const *b, int nb, const double axis[3], double level, int nmax) {
     const int big = 4096, top = 1 << 16;
     int kb = set_kept(b, nb, axis, big, level, NULL, big);
     if (kb <= 0) return 0;
@@ -273,6 +273,10 @@ void sl_lobes_subdivide(const sl_lobes *in, const int *idx, int n, int budget,
         set_axis(b, nb, axis);
         M = room >= SL_SUBDIV_MIN && peak > 0 ? set_size(b, nb, axis, level, room) : 0;
         if (!M) break;
+        if (p->width > 0) { /* no finer than the width asks */
+            int Mw = (int)ceil(4.0 * M_PI * (p->ratio / p->width) * (p->ratio / p->width));
+            if (M > Mw) M = Mw;
+        }
         lam_s = p->ratio * sqrt(4.0 * M_PI / M);
         int dropped = 0;
         for (int j = 0; j < n; j++)

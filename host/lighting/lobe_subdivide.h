@@ -35,18 +35,27 @@
 /* at most this many sub-lobes in all; fewer than SL_SUBDIV_MIN directions: nothing subdivided */
 #define SL_SUBDIV_MAX 64
 #define SL_SUBDIV_MIN 4
+/* the sub-lobes' width: the set is fine enough that SL_SUBDIV_RATIO sqrt(4 pi / M) <= this, so a
+ * broad light gets as many sub-lobes as its extent needs (the whole sphere: 51), whatever the
+ * budget. Before (the set as large as a budget of 2 x (narrow lobes + 1), at least 12, allowed)
+ * a light of many broad lobes could get too few sub-lobes for its lobes, which then stayed whole
+ * (SL_SUBDIV_MAX_WIDTH): the 24 lobes fitted to a white map (lambda 0.54-1.0) kept one map each
+ * and single scattering in the white furnace came out 1.68x the traced shadows' (docs/shadow.md,
+ * "Broad lobes"). Measured there: width 0.3, 1.05x; 0.25, 1.03x. */
+#define SL_SUBDIV_WIDTH 0.25
 /* a broad lobe stays whole when the sub-lobes would be wider than this share of it */
 #define SL_SUBDIV_MAX_WIDTH 0.8
-/* the renderer's budget of lobes after subdivision (host/plan/plan_lobes.c): the broad light
- * counts as one lobe of the split's budget, SL_SHADOW_SPLIT_MAPS_PER_LOBE x (narrow lobes + 1),
- * and at least this many (one broad lobe alone gets 12) */
-#define SL_SUBDIV_MIN_BUDGET 12
+/* the most sub-lobes the width gives, ceil(4 pi (SL_SUBDIV_RATIO / SL_SUBDIV_WIDTH)^2) (a broad
+ * light over the whole sphere); the renderer's budget is the narrow lobes plus this
+ * (host/plan/plan_lobes.c), so the sub-lobes depend only on the light */
+#define SL_SUBDIV_SET_MAX 51
 
 typedef struct sl_subdiv_params {
     double lambda_min; /* SL_SUBDIV_LAMBDA_MIN */
     double ratio;      /* SL_SUBDIV_RATIO */
     double cut;        /* SL_SUBDIV_CUT */
     int samples;       /* SL_SUBDIV_SAMPLES */
+    double width;      /* SL_SUBDIV_WIDTH */
 } sl_subdiv_params;
 void sl_subdiv_params_default(sl_subdiv_params *p);
 

@@ -260,12 +260,11 @@ void sl_frame_estimate(const sl_scene *s, int shadow_size_opt, sl_frame_need *n)
     double view = kbuf + npx * (1.0 + 4.0 * K), outs = 16.0 * npx;
     int size = sl_frame_shadow_size(s, shadow_size_opt), layers = sl_frame_shadow_layers(s);
     int nl = s->lobes > 0 ? s->lobes : 1;
-    /* maps: SL_SHADOW_SPLIT_MAPS_PER_LOBE per lobe (broad lobes split), at least
-     * SL_SUBDIV_MIN_BUDGET when broad lobes are subdivided; the frame shades as many lobes at most
-     * (sub-lobes: lobe_subdivide.h), each a T per point */
+    /* maps: SL_SHADOW_SPLIT_MAPS_PER_LOBE per lobe (broad lobes split), or with broad lobes
+     * subdivided at most the lobes plus SL_SUBDIV_SET_MAX sub-lobes (the budget of
+     * plan_lobes.c); the frame shades as many lobes at most, each a T per point */
     int nmaps = SL_SHADOW_SPLIT_MAPS_PER_LOBE * nl;
-    if (s->broad_lobes == SL_BROAD_SUBDIVIDE && nmaps < SL_SUBDIV_MIN_BUDGET)
-        nmaps = SL_SUBDIV_MIN_BUDGET;
+    if (s->broad_lobes == SL_BROAD_SUBDIVIDE) nmaps = nl + SL_SUBDIV_SET_MAX;
     int nshade = s->broad_lobes == SL_BROAD_SUBDIVIDE ? nmaps : nl;
     double points = npx * K * (24.0 + 12.0 + 4.0 + 4.0 * nshade + 4.0 * SL_SHADE_FLOATS);
     double shadow_one = (double)size * size * (4.0 + 8.0 * layers),

@@ -88,9 +88,9 @@ static void hash_lobes(sl_renderer *r) {
 /* broad lobes (docs/shadow.md, "Broad lobes"): with quality.broad_lobes subdivide, every used
  * lobe with lambda > SL_SUBDIV_LAMBDA_MIN becomes narrower sub-lobes that sum to it
  * (host/lighting/lobe_subdivide.h), so every pass below (light, march, lookup, shade) sees narrow
- * lobes, each with its own transmittance and response. The budget is the split's with the broad
- * light as one lobe: lobes (one map each) plus split maps <= SL_SHADOW_SPLIT_MAPS_PER_LOBE x
- * (narrow lobes + 1), at least SL_SUBDIV_MIN_BUDGET. The fit is redone each frame; the sub-lobes
+ * lobes, each with its own transmittance and response. The budget: the narrow lobes plus
+ * SL_SUBDIV_SET_MAX (the sub-lobes of the width SL_SUBDIV_WIDTH over the whole sphere). The fit
+ * is redone each frame; the sub-lobes
  * are deterministic, so an orbit's light pass still finds its maps by key. */
 int sl_pass_subdivide(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     (void)e;
@@ -103,14 +103,13 @@ int sl_pass_subdivide(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
         hash_lobes(r);
         return 0;
     }
-    /* the broad light is one function (lobe_subdivide.h): it counts as one lobe of the split's
-     * budget, whatever the number of lobes it was cut into, so the budget (and the image) does
-     * not change with the cut */
+    /* the broad light is one function (lobe_subdivide.h): its sub-lobes' count is set by their
+     * width (SL_SUBDIV_WIDTH), whatever the number of lobes it was cut into, so the budget (and
+     * the image) does not change with the cut */
     int nnarrow = 0, nbroad = 0, nsub = 0;
     for (int j = 0; j < w->nused; j++)
         nnarrow += !(in->lobes->lobe[w->used[j]].lambda > SL_SUBDIV_LAMBDA_MIN);
-    int budget = SL_SHADOW_SPLIT_MAPS_PER_LOBE * (nnarrow + 1);
-    if (budget < SL_SUBDIV_MIN_BUDGET) budget = SL_SUBDIV_MIN_BUDGET;
+    int budget = nnarrow + SL_SUBDIV_SET_MAX;
     double fit_l2 = 0;
     sl_lobes_subdivide(in->lobes, w->used, w->nused, budget, NULL, &w->sub, &nbroad, &nsub,
                        &fit_l2);

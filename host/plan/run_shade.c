@@ -74,6 +74,22 @@ int sl_pass_lookup(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     }
     for (size_t i = 0; i < (size_t)nused * pts->n; i++)
         pts->T[i] = (float)Tj[i];
+    if (r->ms_on) { /* the stack behind each point, for the local backscattering */
+        memset(Tj, 0, ((size_t)nused * pts->n + 1) * sizeof *Tj);
+        for (int m = 0; m < r->nlights; m++) {
+            if (sl_shadow_lookup_behind(r->dev, &r->light[m], pts->n, pts->pos, Td, e)) {
+                free(Td);
+                free(Tj);
+                return -1;
+            }
+            double *t = Tj + (size_t)r->light_lobe[m] * pts->n;
+            for (size_t i = 0; i < pts->n; i++)
+                t[i] += r->light_w[m] * Td[i];
+        }
+        pts->B = sl_malloc(((size_t)nused * pts->n + 1) * sizeof *pts->B);
+        for (size_t i = 0; i < (size_t)nused * pts->n; i++)
+            pts->B[i] = (float)Tj[i];
+    }
     free(Td);
     free(Tj);
     sl_frame_why(r, "transmittance of %zu shading points toward %d lobes", pts->n, nused);
@@ -84,12 +100,28 @@ int sl_pass_shade(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     const sl_scene *s = in->s;
     const sl_frame_work *w = &r->fw;
     sl_shade_points *pts = &r->fw.pts;
-    sl_shade_ctx sc = {&s->material,      w->fl,
-                       w->used,           w->nused,
-                       w->share,          in->cam,
-                       r->ms_on,          &r->ftex,
-                       &r->vms,           s->point_threshold,
-                       r->strand_sigma_a, r->have_msn ? &r->msn : NULL};
+    sl_shade_ctx sc = {&s->material,
+                       w->fl,
+                       w->used,
+                       w->nused,
+                       w->share,
+                       in->cam,
+                       r->ms_on,
+                       &r->ftex,
+                       &r->vms,
+                       s->point_threshold,
+                       r->strand_sigma_a,
+                       r->have_msn ? &r->msn : NULL,
+                       NULL};
+    sl_dual_stack stack[3];
+    if (r->ms_on && pts->B && r->dual_ok) { /* the march's tables: the strands' mean sigma_a */
+        for (int c = 0; c < 3; c++) {
+            double rr, tt, Ab;
+            sl_dual_means(&r->dual, c, &rr, &tt, &Ab);
+            sl_dual_stack_init(rr, tt, Ab, &stack[c]);
+        }
+        sc.stack = stack;
+    }
     if (sl_frame_shade(r, &sc, pts, e)) return -1;
     double lobes_eval = 0;
     for (size_t i = 0; i < pts->n; i++)

@@ -1,6 +1,6 @@
-/* test_frame.c: the frame (host/plan/frame.h): K-buffer merge (kernels/kbuffer.h), view-pass coverage
- * (cpu/view.c), the planner's reuse and skipping, AOV consistency, determinism, and the C path
- * against OpenCL on a tiny scene. Expected values come from independent double computations
+/* test_frame.c: the frame (host/plan/frame.h): K-buffer merge (kernels/kbuffer.h), view-pass
+ * coverage (cpu/view.c), the planner's reuse and skipping, AOV consistency, determinism, and the C
+ * path against OpenCL on a tiny scene. Expected values come from independent double computations
  * (alpha products, ribbon areas) or from invariants (a camera move must not re-run a light pass;
  * modes sum to the beauty), never from the code under test. */
 #include "test.h"
@@ -229,9 +229,9 @@ TEST(frame_negligible_lobe_skipped) {
 TEST(frame_aovs_consistent_and_deterministic) {
     /* modes R + TT + TRT + MS = beauty (each is the same front-to-back composite; 1e-5 relative
      * to the pixel for float rounding of 4 casts); 0 <= alpha, shadow <= 1; lobe count <= the
-     * lobes the frame shades: 4, of which 3 broad, subdivided within max(2 x 4,
-     * SL_SUBDIV_MIN_BUDGET) = 12 (host/lighting/lobe_subdivide.h; was 4 before broad lobes were
-     * subdivided);
+     * lobes the frame shades: 4, of which 3 broad, subdivided within 4 + SL_SUBDIV_SET_MAX
+     * (host/lighting/lobe_subdivide.h; was 4 before broad lobes were subdivided, 12 before the
+     * sub-lobes' count was set by their width);
      * one thread and two threads give bit-identical frames (fixed insertion order). */
     frame_tiny t;
     sl_device dev = {0};
@@ -259,7 +259,7 @@ TEST(frame_aovs_consistent_and_deterministic) {
         float al = a.rgba[4 * i + 3];
         CHECK(al >= 0 && al <= 1.0f + 1e-6f);
         CHECK(a.shadow[i] >= 0 && a.shadow[i] <= 1.0f + 1e-6f);
-        CHECK(a.lobes[i] >= 0 && a.lobes[i] <= (float)SL_SUBDIV_MIN_BUDGET + 1e-5f);
+        CHECK(a.lobes[i] >= 0 && a.lobes[i] <= (float)(4 + SL_SUBDIV_SET_MAX) + 1e-5f);
         covered += al > 0.05f;
         CHECK((al > 0) == isfinite(a.depth[i]));
     }
@@ -582,8 +582,10 @@ TEST(frame_threshold_keys_drive_the_planner) {
     delete_renderer(r);
     frame_tiny_close(&t, &dev);
     CHECK(l0 > 0);
-    CHECK_MSG(l1 < l0, "lobes AOV %g at point_threshold 0.9, %g at the default: the shading "
-                       "ignores quality.point_threshold", l1, l0);
+    CHECK_MSG(l1 < l0,
+              "lobes AOV %g at point_threshold 0.9, %g at the default: the shading "
+              "ignores quality.point_threshold",
+              l1, l0);
 }
 
 TEST(frame_kbuffer_occlusion_exact) {
@@ -687,11 +689,11 @@ TEST(frame_estimate_matches_sizes) {
     /* x SL_SHADOW_SPLIT_MAPS_PER_LOBE maps per lobe (broad lobes are split, shadow_split.h) */
     CHECK_NEAR(c - b, 2.0 * (32.0 * 32 - 16 * 16) * (4 + 8 * 4), 0.5);
     CHECK_NEAR((double)sl_frame_estimate_bytes(&s, 16), b, 0.5); /* the option overrides */
-    /* broad lobes subdivided (host/lighting/lobe_subdivide.h): max(2 x 1, SL_SUBDIV_MIN_BUDGET) = 12 maps
-     * and as many lobes shaded (a T float per lobe per point) instead of 2 maps and 1 lobe */
+    /* broad lobes subdivided (host/lighting/lobe_subdivide.h): at most 1 + SL_SUBDIV_SET_MAX = 52
+     * maps and as many lobes shaded (a T float per lobe per point) instead of 2 maps and 1 lobe */
     s.broad_lobes = SL_BROAD_SUBDIVIDE;
     double d = (double)sl_frame_estimate_bytes(&s, 0);
-    CHECK_NEAR(d - c, (12.0 - 2.0) * 32 * 32 * (4 + 8 * 4) + 5000.0 * 8 * 4 * (12 - 1), 0.5);
+    CHECK_NEAR(d - c, (52.0 - 2.0) * 32 * 32 * (4 + 8 * 4) + 5000.0 * 8 * 4 * (52 - 1), 0.5);
     s.broad_lobes = SL_BROAD_SPLIT;
     CHECK(sl_frame_oit_k(&s) == 8);
     s.oit_layers = 1000;

@@ -634,24 +634,29 @@ typedef struct ljob {
     const sl_dodm *m;
     const float *pts;
     float *t;
+    int behind; /* the optical depth behind instead of T */
 } ljob;
 
 static void ljob_run(void *arg, size_t begin, size_t end, int part) {
     (void)part;
     const ljob *j = arg;
     const sl_dodm *m = j->m;
-    slc_dodm_lookup(m->z0bits, m->sat, m->view.w, m->view.h, m->K, m->d, m->rfac, m->inv_scale,
-                    j->pts + 3 * begin, end - begin, j->t + begin);
+    if (j->behind)
+        slc_dodm_lookup_behind(m->z0bits, m->sat, m->view.w, m->view.h, m->K, m->d, m->rfac,
+                               m->inv_scale, j->pts + 3 * begin, end - begin, j->t + begin);
+    else
+        slc_dodm_lookup(m->z0bits, m->sat, m->view.w, m->view.h, m->K, m->d, m->rfac, m->inv_scale,
+                        j->pts + 3 * begin, end - begin, j->t + begin);
 }
 
 /* The C lookup, in threads over contiguous point ranges when there are enough points (every
  * point's T depends only on the map and the point: the same values for any split). */
-static void lookup_c(const sl_dodm *m, const float *pts, size_t n, float *t) {
+static void lookup_c(const sl_dodm *m, const float *pts, size_t n, float *t, int behind) {
     enum { PER_THREAD = 4096 };
     int nt = sl_parallel_cpus();
     if (nt > SL_SHADOW_MAX_THREADS) nt = SL_SHADOW_MAX_THREADS;
     if ((size_t)nt > n / PER_THREAD + 1) nt = (int)(n / PER_THREAD + 1);
-    ljob job = {m, pts, t};
+    ljob job = {m, pts, t, behind};
     sl_parallel_parts(nt, n, ljob_run, &job);
 }
 
@@ -673,13 +678,31 @@ int sl_shadow_lookup(sl_device *dev, const sl_dodm *m, size_t n, const double *x
         else
             rc = 0; /* done, or dev is now the C path */
     }
-    if (!rc && !dev->is_opencl) lookup_c(m, pts, n, t);
+    if (!rc && !dev->is_opencl) lookup_c(m, pts, n, t, 0);
     if (!rc)
         for (size_t i = 0; i < n; i++)
             T[i] = t[i];
     free(pts);
     free(t);
     return rc;
+}
+
+int sl_shadow_lookup_behind(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz,
+                            double *B, sl_err *e) {
+    (void)dev, (void)e;
+    float *pts = sl_malloc((n ? n : 1) * 3 * sizeof *pts), *t = sl_malloc((n ? n : 1) * sizeof *t);
+    for (size_t i = 0; i < n; i++) {
+        double uvz[3];
+        sl_light_view_project(&m->view, xyz + 3 * i, uvz);
+        for (int c = 0; c < 3; c++)
+            pts[3 * i + c] = (float)uvz[c];
+    }
+    lookup_c(m, pts, n, t, 1);
+    for (size_t i = 0; i < n; i++)
+        B[i] = t[i];
+    free(pts);
+    free(t);
+    return 0;
 }
 
 void sl_dodm_free(sl_dodm *m) {

@@ -1,17 +1,18 @@
 /* frame_shade.c: the shading pass of the frame (frame_shade.h): per shading point, the sum over the
  * used lobes of the SRBF single-scattering response (Xu 2011 Eq. 11; kernels/srbf_fast.h or
  * srbf_xu.h) times the effective transmittance toward the lobe (Ren 2010 Eq. 9, from the light
- * pass), plus multiple scattering: T_f, sigma_f of the volume march (host/passes/volume/volume.h) and the
- * response per fragment and lobe of host/passes/volume/volume_ms.h (Xu 2011 Eq. 27-31). Radiance L = sum_j rgb_j
- * T_j I_j (numerics.md sec. 4: the map is sum_j rgb_j G_j). Rows (point, lobe) are evaluated in
- * blocks, all three colour channels in one RGB batch (slc_srbf_rgb_batch / slcl_srbf_rgb_batch:
- * only the absorption differs between channels, so the rest is computed once), or, when the
- * planner chose Ren 2010's precomputed table (env->table, docs/frame.md "SRBF method"), by table
- * lookups (slc_srbf_ren_batch / srbf_ren.cl with the table resident). Each row carries its point's
- * sigma_a: the strand's override (c->strand_sigma_a, painted or from the file's colours) or the
- * material's; the table holds the material's only, so rows of strands with another sigma_a use
- * the closed form. C path: each thread shades a contiguous range of points end to end (rows,
- * response, multiple scattering, accumulation). OpenCL: blocks in turn, one launch per block. */
+ * pass), plus multiple scattering: T_f, sigma_f of the volume march (host/passes/volume/volume.h)
+ * and the response per fragment and lobe of host/passes/volume/volume_ms.h (Xu 2011 Eq. 27-31).
+ * Radiance L = sum_j rgb_j T_j I_j (numerics.md sec. 4: the map is sum_j rgb_j G_j). Rows (point,
+ * lobe) are evaluated in blocks, all three colour channels in one RGB batch (slc_srbf_rgb_batch /
+ * slcl_srbf_rgb_batch: only the absorption differs between channels, so the rest is computed once),
+ * or, when the planner chose Ren 2010's precomputed table (env->table, docs/frame.md "SRBF
+ * method"), by table lookups (slc_srbf_ren_batch / srbf_ren.cl with the table resident). Each row
+ * carries its point's sigma_a: the strand's override (c->strand_sigma_a, painted or from the file's
+ * colours) or the material's; the table holds the material's only, so rows of strands with another
+ * sigma_a use the closed form. C path: each thread shades a contiguous range of points end to end
+ * (rows, response, multiple scattering, accumulation). OpenCL: blocks in turn, one launch per
+ * block. */
 #include "passes/shade/frame_shade.h"
 
 #include "base/parallel.h"
@@ -184,8 +185,8 @@ static void closed_form_c(const shade_common *sc, size_t n, const float *in, con
     if (sc->fp.model != SL_MODEL_MARSCHNER)
         slc_srbf_deon_rgb_batch(&sc->fp, r->tables->C, r->tables->H, r->tables->D, n, in, sig, res);
     else
-        slc_srbf_rgb_batch(&sc->fp, r->tables->C, r->tables->H, sc->method, r->segments, n, in,
-                           sig, res);
+        slc_srbf_rgb_batch(&sc->fp, r->tables->C, r->tables->H, sc->method, r->segments, n, in, sig,
+                           res);
 }
 
 /* The SRBF response of b's rows on the C twins, in this thread. */
@@ -202,8 +203,8 @@ static void eval_rows_c(const shade_common *sc, rowbuf *b) {
 /* Table lookups of n rows on the OpenCL device, the table resident (uploaded once per table, kept
  * in env->ren_mem); rows and results travel per block. Returns 0, -1 or SL_CL_EKERNEL. */
 static int ren_cl(const sl_shade_env *r, size_t n, const float *in, float *out, sl_err *e) {
-    return slcl_srbf_ren_rows(r->dev->cl, r->ren, r->ren_mem, "clCreateBuffer (srbf table)", n,
-                              in, out, e);
+    return slcl_srbf_ren_rows(r->dev->cl, r->ren, r->ren_mem, "clCreateBuffer (srbf table)", n, in,
+                              out, e);
 }
 
 /* The SRBF response of b's rows on the OpenCL device (the caller falls back to eval_rows_c when
@@ -245,11 +246,20 @@ static void accumulate(const shade_common *sc, rowbuf *b) {
             sl_ftex_lookup(c->ftex, j, p->pos + 3 * i, Tf, sf);
             const float *x = b->in + 5 * k;
             const float *sa = sc->ssig && c->msn ? sc->ssig + 3 * (size_t)p->strand[i] : NULL;
+            float MG[3], ML[3];
             if (sa && (sa[0] != sc->msig[0] || sa[1] != sc->msig[1] || sa[2] != sc->msig[2]))
-                sl_volume_ms_nodes_response(c->msn, sa, x[0], x[1], x[2], x[3], x[4], Tf, sf, T,
-                                            ms);
+                sl_volume_ms_nodes_terms(c->msn, sa, x[0], x[1], x[2], x[3], x[4], sf, MG, ML);
             else
-                sl_volume_ms_response(c->vms, x[0], x[1], x[2], x[3], x[4], Tf, sf, T, ms);
+                sl_volume_ms_terms(c->vms, x[0], x[1], x[2], x[3], x[4], sf, MG, ML);
+            if (c->stack && p->B) {
+                float nb = p->B[(size_t)j * p->n + i];
+                double nf = T > 1e-30f ? -log((double)T) : 69.0;
+                for (int col = 0; col < 3; col++) {
+                    ML[col] *= (float)sl_dual_stack_local_factor(&c->stack[col], nb);
+                    Tf[col] *= (float)sl_dual_stack_incident_factor(&c->stack[col], nf, nb);
+                }
+            }
+            sl_volume_ms_combine(x[4], Tf, T, MG, ML, ms);
         }
         const float *o = b->res + 9 * k; /* R rgb, TT rgb, TRT rgb */
         for (int col = 0; col < 3; col++) {

@@ -36,6 +36,10 @@ typedef struct sl_shade_ctx {
     /* with strand_sigma_a and ms_on: the MS response at the strands' sigma_a nodes; a strand
      * whose sigma_a is the material's reads vms */
     const sl_volume_ms_nodes *msn;
+    /* with ms_on: per channel, the fiber stack of the MS tables (sl_dual_stack): the local
+     * backscattering is weighted by the hair behind each point (sl_shade_points.B); NULL: Zinke's
+     * A_b as tabulated (a semi-infinite medium behind every point) */
+    const sl_dual_stack *stack;
 } sl_shade_ctx;
 
 /* Where and how the rows are evaluated (the planner fills it from the renderer). */

@@ -104,6 +104,7 @@ void sl_shade_points_free(sl_shade_points *p) {
     free(p->tan);
     free(p->strand);
     free(p->T);
+    free(p->B);
     free(p->out);
     memset(p, 0, sizeof *p);
 }

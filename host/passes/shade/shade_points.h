@@ -20,7 +20,10 @@ typedef struct sl_shade_points {
     float *tan;       /* 3 n, unit */
     uint32_t *strand; /* n: the strand of each point (for per-strand sigma_a, r->strand_sigma_a) */
     float *T;         /* nlobes x n: transmittance toward each used lobe (1 without a map) */
-    float *out;       /* SL_SHADE_FLOATS n */
+    /* nlobes x n: the optical depth of the hair behind the point seen from each used lobe
+     * (sl_shadow_lookup_behind, the lobe's maps weighted as T), or NULL (MS off) */
+    float *B;
+    float *out; /* SL_SHADE_FLOATS n */
 } sl_shade_points;
 
 /* From each K-buffer entry to its shading (point index, or anchor pair + weight). */

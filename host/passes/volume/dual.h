@@ -38,5 +38,32 @@ double sl_dual_ms_share(const sl_material *m);
 
 /* The infinite-stack reflectance R(r, t) above (r, t >= 0, r + t <= 1). */
 double sl_dual_stack_reflectance(double r, double t);
+/* A stack of fiber layers of reflectance r and transmittance t (one channel's means, sl_dual_means)
+ * and the local backscattering A_b the dual-scattering tables assume (Zinke's semi-infinite medium
+ * behind the point): what the frame needs to weight A_b by the hair actually behind a point
+ * (docs/volume.md, "The stack behind"). */
+typedef struct sl_dual_stack {
+    double r, t, Ab, R_inf;
+    double a, b, kappa; /* the adding equations in Kubelka-Munk form (dual.c) */
+    int lossless;       /* r + t = 1 (or r = 0): the closed forms' b -> 0 limit */
+} sl_dual_stack;
+void sl_dual_stack_init(double r, double t, double Ab, sl_dual_stack *s);
+/* The reflectance of N layers (N real >= 0): 0 at N = 0, r at N = 1, R_inf as N -> inf. */
+double sl_dual_stack_reflectance_n(const sl_dual_stack *s, double N);
+/* The transmittance of N layers (the light through them by every path, interreflections
+ * included): 1 at N = 0, t at N = 1. */
+double sl_dual_stack_transmittance_n(const sl_dual_stack *s, double N);
+/* The light arriving at a fiber with m layers in front of it (toward the light) and n behind,
+ * relative to t^m (what a forward-scattering-only march, T_f = prod a_f, delivers there): the
+ * front stack's transmittance, with the light the two stacks reflect between them,
+ * T_m / (1 - R_m R_n) / t^m; 1 at m = 0 and n = 0. Capped at SL_DUAL_STACK_MAX_FACTOR. */
+#define SL_DUAL_STACK_MAX_FACTOR 1e4
+double sl_dual_stack_incident_factor(const sl_dual_stack *s, double m, double n);
+/* (R_{n+1} - r) / A_b: the light a point's own fiber gets back from the n layers behind it
+ * (and their interreflections with it), relative to A_b; 0 at n = 0, 1 when A_b is 0. */
+double sl_dual_stack_local_factor(const sl_dual_stack *s, double n);
+/* Channel c's means over incident directions (weight cos theta_d) of a_b (*r), a_f (*tr) and
+ * Zinke's local backscattering A_b (*Ab; may be NULL). */
+void sl_dual_means(const sl_dual_tables *t, int c, double *r, double *tr, double *Ab);
 
 #endif

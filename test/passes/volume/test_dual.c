@@ -399,3 +399,97 @@ TEST(dual_ms_share_dark_blond) {
         }
     }
 }
+
+/* ---- the stack behind a shading point (sl_dual_stack, docs/volume.md "The stack behind") ---- */
+
+/* R_N, T_N of N identical layers by the adding equations, one layer at a time (independent of
+ * dual.c's Kubelka-Munk closed form): R' = r + t^2 R / (1 - r R), T' = t T / (1 - r R). */
+static void stack_iterate(double r, double t, int N, double *R, double *T) {
+    double Rn = 0.0, Tn = 1.0;
+    for (int k = 0; k < N; k++) {
+        double d = 1.0 - r * Rn;
+        Rn = r + t * t * Rn / d;
+        Tn = t * Tn / d;
+    }
+    *R = Rn, *T = Tn;
+}
+
+/* The closed forms against the layer-by-layer adding at N = 0..40 within 1e-9 (both are exact;
+ * the rest is rounding), on absorbing, lossless (r + t = 1: the b -> 0 limit), nearly lossless
+ * (b tiny: cancellation), t = 0 (kappa = inf) and tiny-r stacks; real N lies between its integer
+ * neighbours; N -> inf gives R_inf (checked above by its own iteration) and T = 0. */
+TEST(dual_stack_closed_forms_match_adding) {
+    const double rt[][2] = {{0.1, 0.8}, {0.2574, 0.7426}, {0.3, 0.7 - 1e-7}, {0.05, 0.5},
+                            {0.4, 0.0}, {1e-6, 0.9},      {0.2617, 0.7383}};
+    for (int i = 0; i < 7; i++) {
+        sl_dual_stack s;
+        sl_dual_stack_init(rt[i][0], rt[i][1], 0.3, &s);
+        for (int N = 0; N <= 40; N++) {
+            double R, T;
+            stack_iterate(rt[i][0], rt[i][1], N, &R, &T);
+            CHECK_NEAR(sl_dual_stack_reflectance_n(&s, N), R, 1e-9);
+            CHECK_NEAR(sl_dual_stack_transmittance_n(&s, N), T, 1e-9);
+            if (N) {
+                double Rh = sl_dual_stack_reflectance_n(&s, N - 0.5),
+                       Th = sl_dual_stack_transmittance_n(&s, N - 0.5), R0, T0;
+                stack_iterate(rt[i][0], rt[i][1], N - 1, &R0, &T0);
+                CHECK(Rh >= R0 - 1e-12 && Rh <= R + 1e-12);
+                CHECK(Th <= T0 + 1e-12 && Th >= T - 1e-12);
+            }
+        }
+        CHECK_NEAR(sl_dual_stack_reflectance_n(&s, INFINITY),
+                   sl_dual_stack_reflectance(rt[i][0], rt[i][1]), 1e-9);
+        CHECK_NEAR(sl_dual_stack_transmittance_n(&s, INFINITY), 0.0, 1e-12);
+        CHECK(isfinite(sl_dual_stack_reflectance_n(&s, 1e300)));
+    }
+}
+
+/* The light at a fiber between m layers in front and n behind: the front stack's transmission
+ * and every round trip between the two stacks, T_m sum_k (R_m R_n)^k, summed here term by term,
+ * relative to the march's t^m. No layer in front: 1 whatever is behind; nothing behind: T_m / t^m
+ * (> 1: the front stack's own interreflections). A white furnace's deep point (lossless, an
+ * infinite stack behind) receives the whole flux: factor 1 / t^m. */
+TEST(dual_stack_incident_factor_series) {
+    const double rt[][2] = {{0.1, 0.8}, {0.2574, 0.7426}, {0.05, 0.5}};
+    for (int i = 0; i < 3; i++) {
+        sl_dual_stack s;
+        sl_dual_stack_init(rt[i][0], rt[i][1], 0.3, &s);
+        for (int m = 0; m <= 12; m += 3)
+            for (int n = 0; n <= 12; n += 4) {
+                double Rm, Tm, Rn, Tn, sum = 0.0, term = 1.0;
+                stack_iterate(rt[i][0], rt[i][1], m, &Rm, &Tm);
+                stack_iterate(rt[i][0], rt[i][1], n, &Rn, &Tn);
+                for (int k = 0; k < 100000 && term > 1e-17; k++, term *= Rm * Rn)
+                    sum += term;
+                double want = Tm * sum / pow(rt[i][1], m);
+                CHECK_REL(sl_dual_stack_incident_factor(&s, m, n), want, 1e-9);
+            }
+        CHECK_NEAR(sl_dual_stack_incident_factor(&s, 0.0, 50.0), 1.0, 1e-12);
+    }
+    sl_dual_stack w;
+    sl_dual_stack_init(0.2574, 0.7426, 0.42, &w);
+    CHECK_REL(sl_dual_stack_incident_factor(&w, 6.0, INFINITY), 1.0 / pow(0.7426, 6.0), 1e-9);
+    CHECK(sl_dual_stack_incident_factor(&w, 1e6, 3.0) <= SL_DUAL_STACK_MAX_FACTOR);
+}
+
+/* The local backscattering's weight: nothing behind, nothing back (0); a semi-infinite stack,
+ * (R_inf - r) / A_b; one layer behind, (R_2 - r) / A_b with R_2 = r + t^2 r / (1 - r^2); no
+ * tabulated A_b: 1 (the tables' value stands). */
+TEST(dual_stack_local_factor_limits) {
+    const double r = 0.1, t = 0.8, Ab = 0.07;
+    sl_dual_stack s;
+    sl_dual_stack_init(r, t, Ab, &s);
+    CHECK_NEAR(sl_dual_stack_local_factor(&s, 0.0), 0.0, 1e-15);
+    CHECK_REL(sl_dual_stack_local_factor(&s, 1.0), (t * t * r / (1 - r * r)) / Ab, 1e-9);
+    CHECK_REL(sl_dual_stack_local_factor(&s, INFINITY), (sl_dual_stack_reflectance(r, t) - r) / Ab,
+              1e-9);
+    double prev = 0.0;
+    for (double n = 0.25; n < 64; n *= 2) {
+        double f = sl_dual_stack_local_factor(&s, n);
+        CHECK(f > prev);
+        prev = f;
+    }
+    sl_dual_stack z;
+    sl_dual_stack_init(r, t, 0.0, &z);
+    CHECK_NEAR(sl_dual_stack_local_factor(&z, 5.0), 1.0, 0);
+}
