@@ -54,6 +54,17 @@ __kernel void sl_dodm_lookup(__global const uint *z0bits, __global const ulong *
     T[i] = exp(-tau);
 }
 
+/* The optical depth of the hair behind n points (u, v, z): sl_dodm_tau_behind (the stack a
+ * fragment's local backscattering comes from, docs/volume.md). */
+__kernel void sl_dodm_lookup_behind(__global const uint *z0bits, __global const ulong *sat, int w,
+                                    int h, uint K, float d, float rfac, float inv_scale,
+                                    __global const float *pts, uint n, __global float *B) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    B[i] = sl_dodm_tau_behind(z0bits, sat, w, h, K, d, rfac, inv_scale, pts[3 * i], pts[3 * i + 1],
+                              pts[3 * i + 2]);
+}
+
 /* T = exp(-tau) at n world points (pts: 3 n floats) for a batch of nl lobes whose global indices
  * start at lobe0 (sl_dodm_tau_lobe). all != 0: every lobe at every point, T[i stride + lobe0 + l];
  * all = 0: point i for its own lobe lobe[i] (global index; other batches' points are skipped),

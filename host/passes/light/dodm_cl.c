@@ -33,7 +33,8 @@ int slcl_dodm_tables_buf(sl_cl *cl, cl_mem bins, int w, int h, unsigned K, unsig
     SL_CL_ARG(&a, 2, ch);
     SL_CL_ARG(&a, 3, nk);
     if (sl_cl_args_end(&a)) return -1;
-    if (sl_cl_run1d(cl, kc, "dodm: sl_dodm_cumulate", (size_t)plane * nl, LOCAL, timer, e)) return -1;
+    if (sl_cl_run1d(cl, kc, "dodm: sl_dodm_cumulate", (size_t)plane * nl, LOCAL, timer, e))
+        return -1;
     if (sl_cl_run1d(cl, kr, "dodm: sl_dodm_scan_rows", rows, LOCAL, timer, e)) return -1;
     return sl_cl_run1d(cl, kcol, "dodm: sl_dodm_scan_cols", (size_t)w * nk, LOCAL, timer, e);
 }
@@ -58,13 +59,14 @@ int slcl_dodm_tables(sl_cl *cl, uint64_t *bins, int w, int h, unsigned K, double
     return rc;
 }
 
-int slcl_dodm_lookup(sl_cl *cl, const uint32_t *z0bits, const uint64_t *sat, int w, int h,
-                     unsigned K, float d, float rfac, float inv_scale, const float *pts, size_t n,
-                     float *T, sl_err *e) {
+/* One point kernel of dodm.cl over host arrays: sl_dodm_lookup (T) or sl_dodm_lookup_behind. */
+static int lookup_points(sl_cl *cl, const char *kname, const uint32_t *z0bits, const uint64_t *sat,
+                         int w, int h, unsigned K, float d, float rfac, float inv_scale,
+                         const float *pts, size_t n, float *T, sl_err *e) {
     if (n == 0) return 0;
     if (n > 0xffffffffu) return sl_fail(e, "dodm: %zu points is too many", n);
     cl_kernel k;
-    int rc = sl_cl_get_kernel(cl, DODM_FILE, "sl_dodm_lookup", NULL, &k, e);
+    int rc = sl_cl_get_kernel(cl, DODM_FILE, kname, NULL, &k, e);
     if (rc) return rc;
     cl_context ctx = sl_cl_context(cl);
     size_t plane = (size_t)w * h;
@@ -96,7 +98,7 @@ int slcl_dodm_lookup(sl_cl *cl, const uint32_t *z0bits, const uint64_t *sat, int
     SL_CL_ARG(&a, 9, nn);
     SL_CL_ARG(&a, 10, bt);
     if (sl_cl_args_end(&a)) goto done;
-    if (sl_cl_run1d(cl, k, "dodm: sl_dodm_lookup", n, LOCAL, NULL, e)) goto done;
+    if (sl_cl_run1d(cl, k, kname, n, LOCAL, NULL, e)) goto done;
     if (sl_cl_check(
             clEnqueueReadBuffer(sl_cl_queue(cl), bt, CL_TRUE, 0, n * sizeof *T, T, 0, NULL, NULL),
             "dodm: read T", e))
@@ -108,6 +110,20 @@ done:
     if (bp) clReleaseMemObject(bp);
     if (bt) clReleaseMemObject(bt);
     return rc;
+}
+
+int slcl_dodm_lookup(sl_cl *cl, const uint32_t *z0bits, const uint64_t *sat, int w, int h,
+                     unsigned K, float d, float rfac, float inv_scale, const float *pts, size_t n,
+                     float *T, sl_err *e) {
+    return lookup_points(cl, "sl_dodm_lookup", z0bits, sat, w, h, K, d, rfac, inv_scale, pts, n, T,
+                         e);
+}
+
+int slcl_dodm_lookup_behind(sl_cl *cl, const uint32_t *z0bits, const uint64_t *sat, int w, int h,
+                            unsigned K, float d, float rfac, float inv_scale, const float *pts,
+                            size_t n, float *B, sl_err *e) {
+    return lookup_points(cl, "sl_dodm_lookup_behind", z0bits, sat, w, h, K, d, rfac, inv_scale, pts,
+                         n, B, e);
 }
 
 int slcl_dodm_lookup_lobes_buf(sl_cl *cl, cl_mem z0bits, cl_mem sat, int w, int h, unsigned K,

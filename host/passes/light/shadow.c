@@ -660,8 +660,10 @@ static void lookup_c(const sl_dodm *m, const float *pts, size_t n, float *t, int
     sl_parallel_parts(nt, n, ljob_run, &job);
 }
 
-int sl_shadow_lookup(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz, double *T,
-                     sl_err *e) {
+/* T (behind = 0) or the optical depth behind (1) at n world points: the OpenCL kernel on an
+ * OpenCL device (falling back to C where dev allows), else the C twin. */
+static int lookup_points(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz, double *out,
+                         int behind, sl_err *e) {
     float *pts = sl_malloc((n ? n : 1) * 3 * sizeof *pts), *t = sl_malloc((n ? n : 1) * sizeof *t);
     for (size_t i = 0; i < n; i++) {
         double uvz[3];
@@ -671,38 +673,31 @@ int sl_shadow_lookup(sl_device *dev, const sl_dodm *m, size_t n, const double *x
     }
     int rc = 0;
     if (dev->is_opencl) {
-        rc = slcl_dodm_lookup(dev->cl, m->z0bits, m->sat, m->view.w, m->view.h, m->K, m->d, m->rfac,
-                              m->inv_scale, pts, n, t, e);
+        rc = (behind ? slcl_dodm_lookup_behind
+                     : slcl_dodm_lookup)(dev->cl, m->z0bits, m->sat, m->view.w, m->view.h, m->K,
+                                         m->d, m->rfac, m->inv_scale, pts, n, t, e);
         if (rc && !sl_device_try_fallback(dev, rc, e))
             rc = -1;
         else
             rc = 0; /* done, or dev is now the C path */
     }
-    if (!rc && !dev->is_opencl) lookup_c(m, pts, n, t, 0);
+    if (!rc && !dev->is_opencl) lookup_c(m, pts, n, t, behind);
     if (!rc)
         for (size_t i = 0; i < n; i++)
-            T[i] = t[i];
+            out[i] = t[i];
     free(pts);
     free(t);
     return rc;
 }
 
+int sl_shadow_lookup(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz, double *T,
+                     sl_err *e) {
+    return lookup_points(dev, m, n, xyz, T, 0, e);
+}
+
 int sl_shadow_lookup_behind(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz,
                             double *B, sl_err *e) {
-    (void)dev, (void)e;
-    float *pts = sl_malloc((n ? n : 1) * 3 * sizeof *pts), *t = sl_malloc((n ? n : 1) * sizeof *t);
-    for (size_t i = 0; i < n; i++) {
-        double uvz[3];
-        sl_light_view_project(&m->view, xyz + 3 * i, uvz);
-        for (int c = 0; c < 3; c++)
-            pts[3 * i + c] = (float)uvz[c];
-    }
-    lookup_c(m, pts, n, t, 1);
-    for (size_t i = 0; i < n; i++)
-        B[i] = t[i];
-    free(pts);
-    free(t);
-    return 0;
+    return lookup_points(dev, m, n, xyz, B, 1, e);
 }
 
 void sl_dodm_free(sl_dodm *m) {

@@ -17,6 +17,8 @@ static const sl_kernel_check checks[] = {
     {"raster", "segment rasterizer + DODM tables, raster.cl + dodm.cl (bit-identical)",
      slchk_raster, 0},
     {"dodm_lookup", "convolution optical depth lookup T = exp(-tau), dodm.cl", slchk_dodm, 0},
+    {"dodm_behind", "optical depth of the hair behind a point (multiple scattering), dodm.cl",
+     slchk_dodm_behind, 0},
     {"voxel", "hair voxelization (density, direction, deviation), voxel.cl", slchk_voxel, 0},
     {"march", "shadow-path march T_f, sigma_f (dual scattering), march.cl", slchk_march, 0},
     {"ms", "multiple-scattering response per fragment and lobe (Xu Eq. 27-31), ms.cl",

@@ -72,6 +72,8 @@ int slchk_prefix_sum_serial(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_
  * path (raster, tables, lookup) vs the C twin. */
 int slchk_raster(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
 int slchk_dodm(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
+int slchk_dodm_behind(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r,
+                      sl_err *e);
 /* volume_check.c (`strandlight kernels --only voxel|march|ms|dual`). */
 int slchk_voxel(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
 int slchk_march(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result *r, sl_err *e);
