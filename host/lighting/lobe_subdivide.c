@@ -16,6 +16,12 @@ void sl_subdiv_params_default(sl_subdiv_params *p) {
     p->width = SL_SUBDIV_WIDTH;
 }
 
+int sl_subdiv_set_size(const sl_subdiv_params *p) {
+    if (!(p->width > 0)) return SL_SUBDIV_MAX;
+    double m = ceil(4.0 * M_PI * (p->ratio / p->width) * (p->ratio / p->width));
+    return m < SL_SUBDIV_MAX ? (int)m : SL_SUBDIV_MAX;
+}
+
 /* Solves the n x n system A x = b (A, b overwritten) by Gaussian elimination with partial
  * pivoting; returns -1 when singular. */
 static int solve(double *A, double *b, int n, double *x) {
@@ -274,7 +280,7 @@ void sl_lobes_subdivide(const sl_lobes *in, const int *idx, int n, int budget,
         M = room >= SL_SUBDIV_MIN && peak > 0 ? set_size(b, nb, axis, level, room) : 0;
         if (!M) break;
         if (p->width > 0) { /* no finer than the width asks */
-            int Mw = (int)ceil(4.0 * M_PI * (p->ratio / p->width) * (p->ratio / p->width));
+            int Mw = sl_subdiv_set_size(p);
             if (M > Mw) M = Mw;
         }
         lam_s = p->ratio * sqrt(4.0 * M_PI / M);

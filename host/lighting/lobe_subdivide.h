@@ -37,17 +37,20 @@
 #define SL_SUBDIV_MIN 4
 /* the sub-lobes' width: the set is fine enough that SL_SUBDIV_RATIO sqrt(4 pi / M) <= this, so a
  * broad light gets as many sub-lobes as its extent needs (the whole sphere: 51), whatever the
- * budget. Before (the set as large as a budget of 2 x (narrow lobes + 1), at least 12, allowed)
- * a light of many broad lobes could get too few sub-lobes for its lobes, which then stayed whole
- * (SL_SUBDIV_MAX_WIDTH): the 24 lobes fitted to a white map (lambda 0.54-1.0) kept one map each
- * and single scattering in the white furnace came out 1.68x the traced shadows' (docs/shadow.md,
- * "Broad lobes"). Measured there: width 0.3, 1.05x; 0.25, 1.03x. */
-#define SL_SUBDIV_WIDTH 0.25
+ * budget (`quality.sublobe_width`, docs/formats.md). Before (the set as large as a budget of 2 x
+ * (narrow lobes + 1), at least 12, allowed) a light of many broad lobes could get too few sub-lobes
+ * for its lobes, which then stayed whole (SL_SUBDIV_MAX_WIDTH): the 24 lobes fitted to a white map
+ * (lambda 0.54-1.0) kept one map each and single scattering in the white furnace came out 1.68x the
+ * traced shadows' (docs/shadow.md, "Broad lobes"). Measured there: width 0.3, 1.05x; 0.25, 1.03x
+ * (the default scene's frame 1.5x and 1.8x of before: more lobes to shade). */
+#define SL_SUBDIV_WIDTH 0.3
+/* the finest width quality.sublobe_width may ask (its set: SL_SUBDIV_SET_MAX directions) */
+#define SL_SUBDIV_WIDTH_MIN 0.25
 /* a broad lobe stays whole when the sub-lobes would be wider than this share of it */
 #define SL_SUBDIV_MAX_WIDTH 0.8
-/* the most sub-lobes the width gives, ceil(4 pi (SL_SUBDIV_RATIO / SL_SUBDIV_WIDTH)^2) (a broad
- * light over the whole sphere); the renderer's budget is the narrow lobes plus this
- * (host/plan/plan_lobes.c), so the sub-lobes depend only on the light */
+/* the most sub-lobes SL_SUBDIV_WIDTH_MIN gives, ceil(4 pi (SL_SUBDIV_RATIO / 0.25)^2) (a broad
+ * light over the whole sphere); the renderer's budget is the narrow lobes plus
+ * sl_subdiv_set_size (host/plan/plan_lobes.c), so the sub-lobes depend only on the light */
 #define SL_SUBDIV_SET_MAX 51
 
 typedef struct sl_subdiv_params {
@@ -58,6 +61,9 @@ typedef struct sl_subdiv_params {
     double width;      /* SL_SUBDIV_WIDTH */
 } sl_subdiv_params;
 void sl_subdiv_params_default(sl_subdiv_params *p);
+/* The set size of p's width, ceil(4 pi (ratio / width)^2), at most SL_SUBDIV_MAX: the sub-lobes
+ * of a broad light over the whole sphere. */
+int sl_subdiv_set_size(const sl_subdiv_params *p);
 
 /* The renderer's use: the lobes in[idx[0..n-1]] into out (allocated; free with sl_lobes_free):
  * the lobes kept whole first, in input order (bit for bit), then the sub-lobes of the broad

@@ -88,8 +88,8 @@ static void hash_lobes(sl_renderer *r) {
 /* broad lobes (docs/shadow.md, "Broad lobes"): with quality.broad_lobes subdivide, every used
  * lobe with lambda > SL_SUBDIV_LAMBDA_MIN becomes narrower sub-lobes that sum to it
  * (host/lighting/lobe_subdivide.h), so every pass below (light, march, lookup, shade) sees narrow
- * lobes, each with its own transmittance and response. The budget: the narrow lobes plus
- * SL_SUBDIV_SET_MAX (the sub-lobes of the width SL_SUBDIV_WIDTH over the whole sphere). The fit
+ * lobes, each with its own transmittance and response. The budget: the narrow lobes plus the
+ * sub-lobes of quality.sublobe_width over the whole sphere (sl_subdiv_set_size). The fit
  * is redone each frame; the sub-lobes
  * are deterministic, so an orbit's light pass still finds its maps by key. */
 int sl_pass_subdivide(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
@@ -109,10 +109,12 @@ int sl_pass_subdivide(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     int nnarrow = 0, nbroad = 0, nsub = 0;
     for (int j = 0; j < w->nused; j++)
         nnarrow += !(in->lobes->lobe[w->used[j]].lambda > SL_SUBDIV_LAMBDA_MIN);
-    int budget = nnarrow + SL_SUBDIV_SET_MAX;
+    sl_subdiv_params sp;
+    sl_subdiv_params_default(&sp);
+    sp.width = in->s->sublobe_width;
+    int budget = nnarrow + sl_subdiv_set_size(&sp);
     double fit_l2 = 0;
-    sl_lobes_subdivide(in->lobes, w->used, w->nused, budget, NULL, &w->sub, &nbroad, &nsub,
-                       &fit_l2);
+    sl_lobes_subdivide(in->lobes, w->used, w->nused, budget, &sp, &w->sub, &nbroad, &nsub, &fit_l2);
     if (nbroad > 0) {
         w->fl = &w->sub;
         free(w->used);

@@ -2,6 +2,7 @@
 #include "scene/scene.h"
 
 #include "base/json_util.h"
+#include "lighting/lobe_subdivide.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -40,6 +41,7 @@ void sl_scene_default(sl_scene *s) {
     s->ms_auto_threshold = SL_FRAME_MS_AUTO_THRESHOLD;
     s->auto_fragment_px = SL_FRAME_AUTO_FRAGMENT_PX;
     s->broad_lobes = SL_BROAD_SUBDIVIDE;
+    s->sublobe_width = SL_SUBDIV_WIDTH;
 }
 
 /* Resolves a path from the scene against the scene file's directory. */
@@ -203,6 +205,7 @@ static int read_quality(const sl_json_ctx *top, const cJSON *q, sl_scene *s, sl_
                                        "ms_auto_threshold",
                                        "auto_fragment_px",
                                        "broad_lobes",
+                                       "sublobe_width",
                                        NULL};
     sl_json_ctx c = {top->file, "quality"};
     if (sl_json_check_keys(&c, q, keys, e)) return -1;
@@ -238,6 +241,10 @@ static int read_quality(const sl_json_ctx *top, const cJSON *q, sl_scene *s, sl_
     if (sl_json_number(&c, q, "ms_auto_threshold", 0, &s->ms_auto_threshold, e)) return -1;
     if (!(s->ms_auto_threshold >= 0 && s->ms_auto_threshold <= 1))
         return sl_fail(e, "%s: quality.ms_auto_threshold: must be in [0, 1]", top->file);
+    if (sl_json_number(&c, q, "sublobe_width", 0, &s->sublobe_width, e)) return -1;
+    if (!(s->sublobe_width >= SL_SUBDIV_WIDTH_MIN && s->sublobe_width <= 1))
+        return sl_fail(e, "%s: quality.sublobe_width: must be in [%g, 1]", top->file,
+                       SL_SUBDIV_WIDTH_MIN);
     if (sl_json_number(&c, q, "auto_fragment_px", 0, &s->auto_fragment_px, e)) return -1;
     if (!(s->auto_fragment_px > 0 && s->auto_fragment_px <= 1e6))
         return sl_fail(e, "%s: quality.auto_fragment_px: must be in (0, 1e6]", top->file);

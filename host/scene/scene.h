@@ -66,6 +66,7 @@ typedef struct sl_scene {
     double ms_auto_threshold; /* quality.ms_auto_threshold: "auto" MS when ms share >= this */
     double auto_fragment_px;  /* quality.auto_fragment_px: shading_rate auto -> fragment above */
     int broad_lobes;          /* quality.broad_lobes: SL_BROAD_SUBDIVIDE (default) or _SPLIT */
+    double sublobe_width;     /* quality.sublobe_width: the sub-lobes' lambda (lobe_subdivide.h) */
 
     /* output */
     char out_exr[4096], out_png[4096];

@@ -50,14 +50,19 @@ static void subdiv_brute(const sl_lobe *in, const sl_lobe *sub, int n, double *r
 }
 
 /* One lobe through the renderer's entry point: budget nmax, p NULL. */
-static int subdiv_one(const sl_lobe *in, int nmax, sl_lobe *out, double *rel_l2) {
+static int subdiv_one_p(const sl_lobe *in, int nmax, const sl_subdiv_params *p, sl_lobe *out,
+                        double *rel_l2) {
     sl_lobes l = {.count = 1, .lobe = (sl_lobe *)in}, o;
     int idx = 0, nb = 0, ns = 0;
-    sl_lobes_subdivide(&l, &idx, 1, nmax, NULL, &o, &nb, &ns, rel_l2);
+    sl_lobes_subdivide(&l, &idx, 1, nmax, p, &o, &nb, &ns, rel_l2);
     int n = o.count;
     memcpy(out, o.lobe, n * sizeof *out);
     sl_lobes_free(&o);
     return n;
+}
+
+static int subdiv_one(const sl_lobe *in, int nmax, sl_lobe *out, double *rel_l2) {
+    return subdiv_one_p(in, nmax, NULL, out, rel_l2);
 }
 
 TEST(subdiv_fit_vs_brute_force) {
@@ -124,7 +129,45 @@ TEST(subdiv_narrow_untouched) {
     in.lambda = 0.35;
     CHECK(subdiv_one(&in, SL_SUBDIV_MIN, out, NULL) == 1);
     CHECK(memcmp(&in, &out[0], sizeof in) == 0);
-    CHECK(subdiv_one(&in, 2 * SL_SUBDIV_MIN, out, NULL) > 1); /* and is cut with a larger one */
+    /* and likewise whatever the budget when the width asked is too coarse for it (the default
+     * 0.3 > 0.8 x 0.35); the finest width, 0.25, cuts it */
+    CHECK(subdiv_one(&in, SL_SUBDIV_MAX, out, NULL) == 1);
+    sl_subdiv_params fine;
+    sl_subdiv_params_default(&fine);
+    fine.width = SL_SUBDIV_WIDTH_MIN;
+    CHECK(subdiv_one_p(&in, 2 * SL_SUBDIV_MIN, &fine, out, NULL) > 1);
+}
+
+/* The width sets the sub-lobes (session 10): a broad light gets sl_subdiv_set_size directions
+ * over the sphere whatever the budget above it, lambda' = 0.5 sqrt(4 pi / M) <= the width; the
+ * 24 lobes fitted to a white map (lambda 0.54-1.0; before: too few sub-lobes for the budget of
+ * 12, so all stayed whole) are subdivided. */
+TEST(subdiv_width_sets_the_count) {
+    sl_subdiv_params p;
+    sl_subdiv_params_default(&p);
+    CHECK(sl_subdiv_set_size(&p) == 35); /* ceil(4 pi (0.5 / 0.3)^2) = ceil(34.9) */
+    p.width = SL_SUBDIV_WIDTH_MIN;
+    CHECK(sl_subdiv_set_size(&p) == SL_SUBDIV_SET_MAX);
+    sl_lobe out[SL_SUBDIV_MAX + 1];
+    sl_lobe in = {{0, 1, 0}, 10.0, {1, 1, 1}}; /* near-uniform: every direction kept */
+    int n1 = subdiv_one(&in, SL_SUBDIV_MAX, out, NULL), n2 = subdiv_one(&in, 40, out, NULL);
+    CHECK(n1 == n2 && n1 <= 35 && n1 >= 30);
+    for (int i = 0; i < n1; i++)
+        CHECK(out[i].lambda <= SL_SUBDIV_WIDTH + 1e-9);
+    /* many broad lobes of lambda 0.54-1.0 covering the sphere */
+    sl_lobe many[24];
+    int idx[24];
+    for (int i = 0; i < 24; i++) {
+        double z = 1.0 - (2.0 * i + 1.0) / 24, r = sqrt(1 - z * z), ph = 2.39996323 * i;
+        sl_lobe l = {{r * cos(ph), z, r * sin(ph)}, 0.54 + 0.46 * (i % 5) / 4.0, {1, 1, 1}};
+        many[i] = l;
+        idx[i] = i;
+    }
+    sl_lobes L = {.count = 24, .lobe = many}, o;
+    int nb = 0, ns = 0;
+    sl_lobes_subdivide(&L, idx, 24, SL_SUBDIV_SET_MAX, NULL, &o, &nb, &ns, NULL);
+    CHECK(nb == 24 && ns >= 30 && ns <= 35);
+    sl_lobes_free(&o);
 }
 
 /* Channel k's power of lobes l[0..n-1]: sum rgb_k int G. */
