@@ -38,11 +38,11 @@ field() { awk -F, -v k="$1" -v c="$2" '$1 == k {print $c}'; } # field KEY COLUMN
 within() { awk -v x="$1" -v lo="$2" -v hi="$3" 'BEGIN {exit !(x >= lo && x <= hi)}'; }
 
 # White furnace: mean premultiplied colour / mean coverage over hair pixels, at three densities
-# (800, 4000, 8000 strands). Target 1 within 5 % (issue 19). Measured 1.017 / 0.966 / 0.981 with
-# the stack around each fragment and the sub-lobes' width (session 10; before: 1.285 / 0.966 /
-# 0.847 here, the sparse hair too bright with Zinke's semi-infinite medium behind every point,
-# the dense too dark without the light reflected between layers: docs/volume.md, "The stack
-# behind and in front of a fragment"). Checked within 0.05.
+# (800, 4000, 8000 strands). Target 1 within 5 % (issue 19). Measured 1.002 / 0.987 / 0.979 with
+# the stack around each fragment and the sub-lobes' width (session 10; before: 1.310 / 0.966 /
+# 0.809, the sparse hair too bright with Zinke's semi-infinite medium behind every point, the
+# dense too dark without the light reflected between layers: docs/volume.md, "The stack behind
+# and in front of a fragment"). Checked within 0.05.
 for v in fit_sparse fit fit_dense; do
     c=$(csv "$D/$v.exr" "$D/$v.exr")
     m=$(printf '%s\n' "$c" | field mean_ours 2); a=$(printf '%s\n' "$c" | field mean_alpha_ours 5)
@@ -69,9 +69,11 @@ done
 
 # The near-uniform light as one broad lobe and as the 24 lobes fitted to the white map (another
 # light, close to it: the fit's rel. L2 is a few %): mean colour within 3 % (issue 19's target;
-# measured 1.002), 8 x 8 blocks within 0.12 (measured 0.080; per pixel 0.11).
+# measured 0.987), 8 x 8 blocks within 0.04 (measured 0.014, per pixel 0.014; before session 10
+# 0.080 and 0.110: the 24 fitted lobes, all broad, kept one map each, the lone lobe got
+# sub-lobes).
 c=$(csv "$D/one.exr" "$D/fit.exr")
 q=$(printf '%s\n' "$c" | field ratio 2); b=$(printf '%s\n' "$c" | field rel_rmse_blocks_raw 5)
-if [ -n "$q" ] && [ -n "$b" ] && within "$q" 0.97 1.03 && within "$b" 0 0.12; then
+if [ -n "$q" ] && [ -n "$b" ] && within "$q" 0.97 1.03 && within "$b" 0 0.04; then
     pass physical_lobe_one_vs_fitted_map
-else fail physical_lobe_one_vs_fitted_map "mean ratio '$q' (want 1 within 0.03), 8x8 blocks '$b' (want <= 0.12)"; fi
+else fail physical_lobe_one_vs_fitted_map "mean ratio '$q' (want 1 within 0.03), 8x8 blocks '$b' (want <= 0.04)"; fi
