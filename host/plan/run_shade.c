@@ -44,6 +44,32 @@ static int shading_rate(const sl_renderer *r, const sl_scene *s) {
     return k < 1 ? 1 : (k > 8 ? 8 : k);
 }
 
+typedef int (*map_lookup_fn)(sl_device *, const sl_dodm *, size_t, const double *, double *,
+                             sl_err *);
+
+/* out[j n + i] = sum over lobe j's maps of w x look(map, point i) (one map, w = 1, unless the
+ * lobe is broad): nused x n floats, allocated. 0 or -1 with e set. */
+static int lobe_sums(sl_renderer *r, const sl_shade_points *pts, int nused, map_lookup_fn look,
+                     float **out, sl_err *e) {
+    double *v = sl_malloc((pts->n + 1) * sizeof *v);
+    double *sum = sl_calloc((size_t)nused * pts->n + 1, sizeof *sum);
+    int rc = 0;
+    for (int m = 0; m < r->nlights && !rc; m++) {
+        rc = look(r->dev, &r->light[m], pts->n, pts->pos, v, e);
+        double *t = sum + (size_t)r->light_lobe[m] * pts->n;
+        for (size_t i = 0; !rc && i < pts->n; i++)
+            t[i] += r->light_w[m] * v[i];
+    }
+    if (!rc) {
+        *out = sl_malloc(((size_t)nused * pts->n + 1) * sizeof **out);
+        for (size_t i = 0; i < (size_t)nused * pts->n; i++)
+            (*out)[i] = (float)sum[i];
+    }
+    free(v);
+    free(sum);
+    return rc;
+}
+
 int sl_pass_lookup(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     const sl_hair *h = in->h;
     sl_frame_work *w = &r->fw;
@@ -57,42 +83,13 @@ int sl_pass_lookup(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
             sm->strand_of[i] = st;
     sl_kbuf_view kb = sl_frame_kbuf(r);
     sl_shade_points_build(h, &kb, r->rate_k, sm, pts);
-    pts->T = sl_malloc(((size_t)nused * pts->n + 1) * sizeof *pts->T);
     pts->out = sl_malloc((pts->n * SL_SHADE_FLOATS + 1) * sizeof *pts->out);
-    /* T_j = sum over lobe j's maps of w T (one map, w = 1, unless the lobe is broad) */
-    double *Td = sl_malloc((pts->n + 1) * sizeof *Td);
-    double *Tj = sl_calloc((size_t)nused * pts->n + 1, sizeof *Tj);
-    for (int m = 0; m < r->nlights; m++) {
-        if (sl_shadow_lookup(r->dev, &r->light[m], pts->n, pts->pos, Td, e)) {
-            free(Td);
-            free(Tj);
-            return -1;
-        }
-        double *t = Tj + (size_t)r->light_lobe[m] * pts->n;
-        for (size_t i = 0; i < pts->n; i++)
-            t[i] += r->light_w[m] * Td[i];
-    }
-    for (size_t i = 0; i < (size_t)nused * pts->n; i++)
-        pts->T[i] = (float)Tj[i];
-    if (r->ms_on) { /* the stack behind each point, for the local backscattering */
-        memset(Tj, 0, ((size_t)nused * pts->n + 1) * sizeof *Tj);
-        for (int m = 0; m < r->nlights; m++) {
-            if (sl_shadow_lookup_behind(r->dev, &r->light[m], pts->n, pts->pos, Td, e)) {
-                free(Td);
-                free(Tj);
-                return -1;
-            }
-            double *t = Tj + (size_t)r->light_lobe[m] * pts->n;
-            for (size_t i = 0; i < pts->n; i++)
-                t[i] += r->light_w[m] * Td[i];
-        }
-        pts->B = sl_malloc(((size_t)nused * pts->n + 1) * sizeof *pts->B);
-        for (size_t i = 0; i < (size_t)nused * pts->n; i++)
-            pts->B[i] = (float)Tj[i];
-    }
-    free(Td);
-    free(Tj);
-    sl_frame_why(r, "transmittance of %zu shading points toward %d lobes", pts->n, nused);
+    /* T_j toward each lobe; with MS, the optical depth of the hair behind each point too (the
+     * stack of the local backscattering, docs/volume.md) */
+    if (lobe_sums(r, pts, nused, sl_shadow_lookup, &pts->T, e)) return -1;
+    if (r->ms_on && lobe_sums(r, pts, nused, sl_shadow_lookup_behind, &pts->B, e)) return -1;
+    sl_frame_why(r, "transmittance of %zu shading points toward %d lobes%s", pts->n, nused,
+                 r->ms_on ? ", and the hair behind them" : "");
     return 0;
 }
 

@@ -192,6 +192,17 @@ static void slab(sl_hair *h, int rep) {
               11 + 1000 * (uint64_t)rep);
 }
 
+/* The 400 query points at depth d of the slab tests: |x|, |y| <= SLAB_XY, the same for every
+ * depth (seed 5). */
+static void slab_points(double xyz[3 * 400], double d) {
+    uint64_t s = 5;
+    for (int i = 0; i < 400; i++) {
+        xyz[3 * i] = (2 * urand(&s) - 1) * SLAB_XY;
+        xyz[3 * i + 1] = (2 * urand(&s) - 1) * SLAB_XY;
+        xyz[3 * i + 2] = -d;
+    }
+}
+
 /* Mean of the DODM's T over 400 points at depth d (|x|, |y| <= SLAB_XY) for a narrow lobe from +z.
  */
 static double slab_dodm_mean(sl_device *dev, const sl_hair *h, int size, int K, double kappa,
@@ -208,12 +219,7 @@ static double slab_dodm_mean(sl_device *dev, const sl_hair *h, int size, int K, 
         sl_test_fail(__FILE__, __LINE__, "%s", e.msg);
         return -1;
     }
-    uint64_t s = 5;
-    for (int i = 0; i < 400; i++) {
-        xyz[3 * i] = (2 * urand(&s) - 1) * SLAB_XY;
-        xyz[3 * i + 1] = (2 * urand(&s) - 1) * SLAB_XY;
-        xyz[3 * i + 2] = -d;
-    }
+    slab_points(xyz, d);
     if (sl_shadow_lookup(dev, &m, 400, xyz, T, &e)) sl_test_fail(__FILE__, __LINE__, "%s", e.msg);
     for (int i = 0; i < 400; i++)
         sum += T[i];
@@ -285,12 +291,7 @@ TEST(shadow_slab_behind) {
         double dir[3] = {0, 0, 1}, xyz[3 * 400], b[400];
         CHECK(sl_shadow_build(&dev, &h, dir, 0.05, &o, &m, &e) == 0);
         for (int k = 0; k < 5; k++) {
-            uint64_t s = 5;
-            for (int i = 0; i < 400; i++) {
-                xyz[3 * i] = (2 * urand(&s) - 1) * SLAB_XY;
-                xyz[3 * i + 1] = (2 * urand(&s) - 1) * SLAB_XY;
-                xyz[3 * i + 2] = -ds[k];
-            }
+            slab_points(xyz, ds[k]);
             CHECK(sl_shadow_lookup_behind(&dev, &m, 400, xyz, b, &e) == 0);
             for (int i = 0; i < 400; i++) {
                 CHECK(b[i] >= 0);
@@ -401,12 +402,7 @@ TEST(shadow_slab_window_table) {
                 used = m.z0_radius;
                 for (int k = 0; k < 4; k++) {
                     double xyz[3 * 400], T[400];
-                    uint64_t s = 5;
-                    for (int i = 0; i < 400; i++) {
-                        xyz[3 * i] = (2 * urand(&s) - 1) * SLAB_XY;
-                        xyz[3 * i + 1] = (2 * urand(&s) - 1) * SLAB_XY;
-                        xyz[3 * i + 2] = -ds[k];
-                    }
+                    slab_points(xyz, ds[k]);
                     CHECK(sl_shadow_lookup(&dev, &m, 400, xyz, T, &e) == 0);
                     for (int i = 0; i < 400; i++) {
                         mt[k] += T[i] / 400 / SLAB_REPS;
