@@ -1,7 +1,7 @@
-/* test_shadow.c: the self-shadowing light pass (host/passes/light/shadow.h): rasterizer area conservation,
- * kernel vs C twin on typical and degenerate hair, the SAT precision remedy on a 2048^2 map,
- * the analytic slab (Beer-Lambert, numerics.md sec. 7) for the DODM path and the ray-traced
- * reference, and stochastic simplification. */
+/* test_shadow.c: the self-shadowing light pass (host/passes/light/shadow.h): rasterizer area
+ * conservation, kernel vs C twin on typical and degenerate hair, the SAT precision remedy on a
+ * 2048^2 map, the analytic slab (Beer-Lambert, numerics.md sec. 7) for the DODM path and the
+ * ray-traced reference, and stochastic simplification. */
 #include "test.h"
 
 #include "cl_fixture.h"
