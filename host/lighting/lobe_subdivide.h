@@ -36,7 +36,7 @@
 #define SL_SUBDIV_MAX 64
 #define SL_SUBDIV_MIN 4
 /* the sub-lobes' width: the set is fine enough that SL_SUBDIV_RATIO sqrt(4 pi / M) <= this, so a
- * broad light gets as many sub-lobes as its extent needs (the whole sphere: 51), whatever the
+ * broad light gets as many sub-lobes as its extent needs (the whole sphere: 35 at 0.3), whatever the
  * budget (`quality.sublobe_width`, docs/formats.md). Before (the set as large as a budget of 2 x
  * (narrow lobes + 1), at least 12, allowed) a light of many broad lobes could get too few sub-lobes
  * for its lobes, which then stayed whole (SL_SUBDIV_MAX_WIDTH): the 24 lobes fitted to a white map
