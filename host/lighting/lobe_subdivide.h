@@ -36,13 +36,13 @@
 #define SL_SUBDIV_MAX 64
 #define SL_SUBDIV_MIN 4
 /* the sub-lobes' width: the set is fine enough that SL_SUBDIV_RATIO sqrt(4 pi / M) <= this, so a
- * broad light gets as many sub-lobes as its extent needs (the whole sphere: 35 at 0.3), whatever the
- * budget (`quality.sublobe_width`, docs/formats.md). Before (the set as large as a budget of 2 x
- * (narrow lobes + 1), at least 12, allowed) a light of many broad lobes could get too few sub-lobes
- * for its lobes, which then stayed whole (SL_SUBDIV_MAX_WIDTH): the 24 lobes fitted to a white map
- * (lambda 0.54-1.0) kept one map each and single scattering in the white furnace came out 1.68x the
- * traced shadows' (docs/shadow.md, "Broad lobes"). Measured there: width 0.3, 1.05x; 0.25, 1.03x
- * (the default scene's frame 1.5x and 1.8x of before: more lobes to shade). */
+ * broad light gets as many sub-lobes as its extent needs (the whole sphere: 35 at 0.3), whatever
+ * the budget (`quality.sublobe_width`, docs/formats.md). Before (the set as large as a budget of 2
+ * x (narrow lobes + 1), at least 12, allowed) a light of many broad lobes could get too few
+ * sub-lobes for its lobes, which then stayed whole (SL_SUBDIV_MAX_WIDTH): the 24 lobes fitted to a
+ * white map (lambda 0.54-1.0) kept one map each and single scattering in the white furnace came
+ * out 1.68x the traced shadows' (docs/shadow.md, "Broad lobes"). Measured there: width 0.3, 1.05x;
+ * 0.25, 1.03x (the default scene's frame 1.5x and 1.8x of before: more lobes to shade). */
 #define SL_SUBDIV_WIDTH 0.3
 /* the finest width quality.sublobe_width may ask (its set: SL_SUBDIV_SET_MAX directions) */
 #define SL_SUBDIV_WIDTH_MIN 0.25
