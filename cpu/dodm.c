@@ -38,12 +38,12 @@ void slc_dodm_lookup(const uint32_t *z0bits, const uint64_t *sat, int w, int h, 
                                  pts[3 * i + 1], pts[3 * i + 2]));
 }
 
-void slc_dodm_lookup_behind(const uint32_t *z0bits, const uint64_t *sat, int w, int h, unsigned K,
-                            float d, float rfac, float inv_scale, const float *pts, size_t n,
-                            float *B) {
+void slc_dodm_lookup_both(const uint32_t *z0bits, const uint64_t *sat, int w, int h, unsigned K,
+                          float d, float rfac, float inv_scale, const float *pts, size_t n,
+                          float *T, float *B) {
     for (size_t i = 0; i < n; i++)
-        B[i] = sl_dodm_tau_behind(z0bits, sat, w, h, K, d, rfac, inv_scale, pts[3 * i],
-                                  pts[3 * i + 1], pts[3 * i + 2]);
+        T[i] = expf(-sl_dodm_tau_split(z0bits, sat, w, h, K, d, rfac, inv_scale, pts[3 * i],
+                                       pts[3 * i + 1], pts[3 * i + 2], &B[i]));
 }
 
 void slc_dodm_lookup_lobes(const uint32_t *z0bits, const uint64_t *sat, int w, int h, unsigned K,

@@ -16,10 +16,11 @@ void slc_dodm_sat(uint64_t *a, int w, int h, unsigned K);
 /* T[i] = exp(-tau) at n points (u, v, z) (kernels/dodm.h: sl_dodm_tau). */
 void slc_dodm_lookup(const uint32_t *z0bits, const uint64_t *sat, int w, int h, unsigned K, float d,
                      float rfac, float inv_scale, const float *pts, size_t n, float *T);
-/* B[i] = the optical depth behind n points (u, v, z) (kernels/dodm.h: sl_dodm_tau_behind). */
-void slc_dodm_lookup_behind(const uint32_t *z0bits, const uint64_t *sat, int w, int h, unsigned K,
-                            float d, float rfac, float inv_scale, const float *pts, size_t n,
-                            float *B);
+/* The same T[i], and B[i] = the optical depth behind each point, from one box per point
+ * (kernels/dodm.h: sl_dodm_tau_split). */
+void slc_dodm_lookup_both(const uint32_t *z0bits, const uint64_t *sat, int w, int h, unsigned K,
+                          float d, float rfac, float inv_scale, const float *pts, size_t n,
+                          float *T, float *B);
 /* Batch lookup (kernels/dodm.cl: sl_dodm_lookup_lobes): maps of nl lobes stacked (z0 one plane,
  * tables K planes per lobe), params SL_DODM_PARAMS and views SL_RASTER_VIEW floats per lobe, pts
  * 3 n world floats. lobe == NULL: every lobe at every point, T[i stride + lobe0 + l]; else point

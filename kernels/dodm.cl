@@ -54,15 +54,19 @@ __kernel void sl_dodm_lookup(__global const uint *z0bits, __global const ulong *
     T[i] = exp(-tau);
 }
 
-/* The optical depth of the hair behind n points (u, v, z): sl_dodm_tau_behind (the stack a
- * fragment's local backscattering comes from, docs/volume.md). */
-__kernel void sl_dodm_lookup_behind(__global const uint *z0bits, __global const ulong *sat, int w,
-                                    int h, uint K, float d, float rfac, float inv_scale,
-                                    __global const float *pts, uint n, __global float *B) {
+/* T as sl_dodm_lookup, and B = the optical depth of the hair behind each point (the stack a
+ * fragment's local backscattering comes from, docs/volume.md), from one box (sl_dodm_tau_split). */
+__kernel void sl_dodm_lookup_both(__global const uint *z0bits, __global const ulong *sat, int w,
+                                  int h, uint K, float d, float rfac, float inv_scale,
+                                  __global const float *pts, uint n, __global float *T,
+                                  __global float *B) {
     const uint i = get_global_id(0);
     if (i >= n) return;
-    B[i] = sl_dodm_tau_behind(z0bits, sat, w, h, K, d, rfac, inv_scale, pts[3 * i], pts[3 * i + 1],
-                              pts[3 * i + 2]);
+    float behind;
+    const float tau = sl_dodm_tau_split(z0bits, sat, w, h, K, d, rfac, inv_scale, pts[3 * i],
+                                        pts[3 * i + 1], pts[3 * i + 2], &behind);
+    T[i] = exp(-tau);
+    B[i] = behind;
 }
 
 /* T = exp(-tau) at n world points (pts: 3 n floats) for a batch of nl lobes whose global indices

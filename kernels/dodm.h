@@ -93,54 +93,57 @@ SL_INLINE float sl_dodm_box(const SL_GLOBAL sl_ulong *sat, sl_int w, sl_int h, f
  * halfway between z0 and z), averaged over the box's full area (the map is zero outside), on the
  * two layer tables around z's depth offset and interpolated linearly in depth (tau = 0 at z0).
  * inv_scale converts fixed point to optical depth. A position off the map or in front of the
- * hair (z <= z0, including texels with no hair) has tau = 0. */
-SL_INLINE float sl_dodm_tau(const SL_GLOBAL sl_uint *z0bits, const SL_GLOBAL sl_ulong *sat,
-                            sl_int w, sl_int h, sl_uint K, float d, float rfac, float inv_scale,
-                            float u, float v, float z) {
+ * hair (z <= z0, including texels with no hair) has tau = 0.
+ * With behind != NULL, also the optical depth of the hair behind the position, seen from
+ * the light, into *behind: the whole column's (the last table, which holds every depth) over the
+ * same box, less tau; >= 0. It is the expected number of fibers a ray from the light crosses
+ * after z: the stack behind a shading point that its local backscattering comes from
+ * (docs/volume.md, "The stack behind and in front of a fragment"). A position in front of z0 has
+ * the whole column over a half-texel box behind it; off the map, nothing. One box for both, so a
+ * caller that needs both pays for one lookup. */
+SL_INLINE float sl_dodm_tau_split(const SL_GLOBAL sl_uint *z0bits, const SL_GLOBAL sl_ulong *sat,
+                                  sl_int w, sl_int h, sl_uint K, float d, float rfac,
+                                  float inv_scale, float u, float v, float z, float *behind) {
+    if (behind) *behind = 0.0f;
     if (!(u >= 0.0f && v >= 0.0f && u < (float)w && v < (float)h)) return 0.0f;
     const sl_int tx = (sl_int)floor(u), ty = (sl_int)floor(v);
     const float z0 = sl_dodm_as_float(z0bits[(sl_ulong)ty * (sl_ulong)w + (sl_ulong)tx]);
-    if (!(z > z0)) return 0.0f;
-    const float dz = z - z0;
+    if (!(z > z0) && !behind) return 0.0f;
+    const float dz = z > z0 ? z - z0 : 0.0f;
     const float rmax = 2.0f * (float)(w > h ? w : h);
     float R = sl_maxf(0.5f, rfac * dz);
     if (!(R < rmax)) R = rmax; /* also catches rfac = inf (a lobe wider than a hemisphere) */
     const float X0 = sl_maxf(u - R, 0.0f), X1 = sl_minf(u + R, (float)w);
     const float Y0 = sl_maxf(v - R, 0.0f), Y1 = sl_minf(v + R, (float)h);
     const float norm = inv_scale / ((2.0f * R) * (2.0f * R));
-    const sl_uint k = sl_raster_layer(dz, d, K);
     const sl_ulong plane = (sl_ulong)w * (sl_ulong)h;
-    const float hi = sl_dodm_box(sat + (sl_ulong)k * plane, w, h, X0, X1, Y0, Y1) * norm;
-    const float b0 = sl_dodm_boundary(k, d), b1 = sl_dodm_boundary(k + 1u, d);
-    if (dz >= b1) return hi; /* beyond the last boundary: everything */
-    const float lo =
-        k > 0u ? sl_dodm_box(sat + (sl_ulong)(k - 1u) * plane, w, h, X0, X1, Y0, Y1) * norm : 0.0f;
-    return lo + (hi - lo) * ((dz - b0) / (b1 - b0));
+    float tau = 0.0f;
+    if (z > z0) {
+        const sl_uint k = sl_raster_layer(dz, d, K);
+        const float hi = sl_dodm_box(sat + (sl_ulong)k * plane, w, h, X0, X1, Y0, Y1) * norm;
+        const float b0 = sl_dodm_boundary(k, d), b1 = sl_dodm_boundary(k + 1u, d);
+        if (dz >= b1) { /* beyond the last boundary: everything */
+            tau = hi;
+        } else {
+            const float lo =
+                k > 0u ? sl_dodm_box(sat + (sl_ulong)(k - 1u) * plane, w, h, X0, X1, Y0, Y1) * norm
+                       : 0.0f;
+            tau = lo + (hi - lo) * ((dz - b0) / (b1 - b0));
+        }
+    }
+    if (behind) {
+        const float all =
+            sl_dodm_box(sat + (sl_ulong)(K - 1u) * plane, w, h, X0, X1, Y0, Y1) * norm;
+        *behind = all > tau ? all - tau : 0.0f;
+    }
+    return tau;
 }
 
-/* Optical depth of the hair behind map position (u, v) at depth z, seen from the light: the
- * whole column's (the last table, which holds every depth) over sl_dodm_tau's box, less
- * sl_dodm_tau itself; >= 0. It is the expected number of fibers a ray from the light crosses
- * after z: the stack behind a shading point that its local backscattering comes from
- * (docs/volume.md, "The stack behind"). A position in front of z0 has the whole column over a
- * half-texel box behind it; off the map, nothing. */
-SL_INLINE float sl_dodm_tau_behind(const SL_GLOBAL sl_uint *z0bits, const SL_GLOBAL sl_ulong *sat,
-                                   sl_int w, sl_int h, sl_uint K, float d, float rfac,
-                                   float inv_scale, float u, float v, float z) {
-    if (!(u >= 0.0f && v >= 0.0f && u < (float)w && v < (float)h)) return 0.0f;
-    const sl_int tx = (sl_int)floor(u), ty = (sl_int)floor(v);
-    const float z0 = sl_dodm_as_float(z0bits[(sl_ulong)ty * (sl_ulong)w + (sl_ulong)tx]);
-    const float dz = z > z0 ? z - z0 : 0.0f;
-    const float rmax = 2.0f * (float)(w > h ? w : h);
-    float R = sl_maxf(0.5f, rfac * dz);
-    if (!(R < rmax)) R = rmax;
-    const float X0 = sl_maxf(u - R, 0.0f), X1 = sl_minf(u + R, (float)w);
-    const float Y0 = sl_maxf(v - R, 0.0f), Y1 = sl_minf(v + R, (float)h);
-    const float norm = inv_scale / ((2.0f * R) * (2.0f * R));
-    const sl_ulong plane = (sl_ulong)w * (sl_ulong)h;
-    const float all = sl_dodm_box(sat + (sl_ulong)(K - 1u) * plane, w, h, X0, X1, Y0, Y1) * norm;
-    const float front = sl_dodm_tau(z0bits, sat, w, h, K, d, rfac, inv_scale, u, v, z);
-    return all > front ? all - front : 0.0f;
+/* The convolution optical depth alone (above). */
+SL_INLINE float sl_dodm_tau(const SL_GLOBAL sl_uint *z0bits, const SL_GLOBAL sl_ulong *sat,
+                            sl_int w, sl_int h, sl_uint K, float d, float rfac, float inv_scale,
+                            float u, float v, float z) {
+    return sl_dodm_tau_split(z0bits, sat, w, h, K, d, rfac, inv_scale, u, v, z, (float *)0);
 }
 
 /* Per-lobe lookup parameters of a batch (SL_DODM_PARAMS floats per lobe): d, rfac, inv_scale. */

@@ -279,10 +279,8 @@ void sl_lobes_subdivide(const sl_lobes *in, const int *idx, int n, int budget,
         set_axis(b, nb, axis);
         M = room >= SL_SUBDIV_MIN && peak > 0 ? set_size(b, nb, axis, level, room) : 0;
         if (!M) break;
-        if (p->width > 0) { /* no finer than the width asks */
-            int Mw = sl_subdiv_set_size(p);
-            if (M > Mw) M = Mw;
-        }
+        int Mw = sl_subdiv_set_size(p); /* no finer than the width asks */
+        if (M > Mw) M = Mw;
         lam_s = p->ratio * sqrt(4.0 * M_PI / M);
         int dropped = 0;
         for (int j = 0; j < n; j++)

@@ -89,9 +89,9 @@ static void hash_lobes(sl_renderer *r) {
  * lobe with lambda > SL_SUBDIV_LAMBDA_MIN becomes narrower sub-lobes that sum to it
  * (host/lighting/lobe_subdivide.h), so every pass below (light, march, lookup, shade) sees narrow
  * lobes, each with its own transmittance and response. The budget: the narrow lobes plus the
- * sub-lobes of quality.sublobe_width over the whole sphere (sl_subdiv_set_size). The fit
- * is redone each frame; the sub-lobes
- * are deterministic, so an orbit's light pass still finds its maps by key. */
+ * sub-lobes of quality.sublobe_width over the whole sphere (sl_subdiv_set_size). The fit is redone
+ * each frame; the sub-lobes are deterministic, so an orbit's light pass still finds its maps by
+ * key. */
 int sl_pass_subdivide(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     (void)e;
     sl_frame_work *w = &r->fw;

@@ -44,29 +44,38 @@ static int shading_rate(const sl_renderer *r, const sl_scene *s) {
     return k < 1 ? 1 : (k > 8 ? 8 : k);
 }
 
-typedef int (*map_lookup_fn)(sl_device *, const sl_dodm *, size_t, const double *, double *,
-                             sl_err *);
+/* Per-lobe sums over lobe j's maps of w x the map's value at point i (one map, w = 1, unless
+ * the lobe is broad): T_j into *T and, with B not NULL, the optical depth behind into *B, both
+ * nused x n floats (index j n + i), allocated; one lookup per map for both. 0 or -1 with e set. */
+static float *to_floats(const double *v, size_t n) {
+    float *f = sl_malloc((n + 1) * sizeof *f);
+    for (size_t i = 0; i < n; i++)
+        f[i] = (float)v[i];
+    return f;
+}
 
-/* out[j n + i] = sum over lobe j's maps of w x look(map, point i) (one map, w = 1, unless the
- * lobe is broad): nused x n floats, allocated. 0 or -1 with e set. */
-static int lobe_sums(sl_renderer *r, const sl_shade_points *pts, int nused, map_lookup_fn look,
-                     float **out, sl_err *e) {
-    double *v = sl_malloc((pts->n + 1) * sizeof *v);
-    double *sum = sl_calloc((size_t)nused * pts->n + 1, sizeof *sum);
+static int lobe_sums(sl_renderer *r, const sl_shade_points *pts, int nused, float **T, float **B,
+                     sl_err *e) {
+    size_t n = pts->n, all = (size_t)nused * n;
+    double *vt = sl_malloc((n + 1) * sizeof *vt), *vb = B ? sl_malloc((n + 1) * sizeof *vb) : NULL;
+    double *st = sl_calloc(all + 1, sizeof *st), *sb = B ? sl_calloc(all + 1, sizeof *sb) : NULL;
     int rc = 0;
     for (int m = 0; m < r->nlights && !rc; m++) {
-        rc = look(r->dev, &r->light[m], pts->n, pts->pos, v, e);
-        double *t = sum + (size_t)r->light_lobe[m] * pts->n;
-        for (size_t i = 0; !rc && i < pts->n; i++)
-            t[i] += r->light_w[m] * v[i];
+        rc = sl_shadow_lookup_both(r->dev, &r->light[m], n, pts->pos, vt, vb, e);
+        size_t o = (size_t)r->light_lobe[m] * n;
+        for (size_t i = 0; !rc && i < n; i++) {
+            st[o + i] += r->light_w[m] * vt[i];
+            if (sb) sb[o + i] += r->light_w[m] * vb[i];
+        }
     }
     if (!rc) {
-        *out = sl_malloc(((size_t)nused * pts->n + 1) * sizeof **out);
-        for (size_t i = 0; i < (size_t)nused * pts->n; i++)
-            (*out)[i] = (float)sum[i];
+        *T = to_floats(st, all);
+        if (B) *B = to_floats(sb, all);
     }
-    free(v);
-    free(sum);
+    free(vt);
+    free(vb);
+    free(st);
+    free(sb);
     return rc;
 }
 
@@ -86,8 +95,7 @@ int sl_pass_lookup(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     pts->out = sl_malloc((pts->n * SL_SHADE_FLOATS + 1) * sizeof *pts->out);
     /* T_j toward each lobe; with MS, the optical depth of the hair behind each point too (the
      * stack of the local backscattering, docs/volume.md) */
-    if (lobe_sums(r, pts, nused, sl_shadow_lookup, &pts->T, e)) return -1;
-    if (r->ms_on && lobe_sums(r, pts, nused, sl_shadow_lookup_behind, &pts->B, e)) return -1;
+    if (lobe_sums(r, pts, nused, &pts->T, r->ms_on ? &pts->B : NULL, e)) return -1;
     sl_frame_why(r, "transmittance of %zu shading points toward %d lobes%s", pts->n, nused,
                  r->ms_on ? ", and the hair behind them" : "");
     return 0;

@@ -59,19 +59,21 @@ int slcl_dodm_tables(sl_cl *cl, uint64_t *bins, int w, int h, unsigned K, double
     return rc;
 }
 
-/* One point kernel of dodm.cl over host arrays: sl_dodm_lookup (T) or sl_dodm_lookup_behind. */
-static int lookup_points(sl_cl *cl, const char *kname, const uint32_t *z0bits, const uint64_t *sat,
-                         int w, int h, unsigned K, float d, float rfac, float inv_scale,
-                         const float *pts, size_t n, float *T, sl_err *e) {
+/* The point kernels of dodm.cl over host arrays: sl_dodm_lookup (T; B NULL) or
+ * sl_dodm_lookup_both (T and B). */
+static int lookup_points(sl_cl *cl, const uint32_t *z0bits, const uint64_t *sat, int w, int h,
+                         unsigned K, float d, float rfac, float inv_scale, const float *pts,
+                         size_t n, float *T, float *B, sl_err *e) {
     if (n == 0) return 0;
     if (n > 0xffffffffu) return sl_fail(e, "dodm: %zu points is too many", n);
+    const char *kname = B ? "sl_dodm_lookup_both" : "sl_dodm_lookup";
     cl_kernel k;
     int rc = sl_cl_get_kernel(cl, DODM_FILE, kname, NULL, &k, e);
     if (rc) return rc;
     cl_context ctx = sl_cl_context(cl);
     size_t plane = (size_t)w * h;
     cl_int err;
-    cl_mem bz = NULL, bs = NULL, bp = NULL, bt = NULL;
+    cl_mem bz = NULL, bs = NULL, bp = NULL, bt = NULL, bb = NULL;
     rc = -1;
     bz = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, plane * sizeof *z0bits,
                         (void *)z0bits, &err);
@@ -84,6 +86,10 @@ static int lookup_points(sl_cl *cl, const char *kname, const uint32_t *z0bits, c
     if (sl_cl_check(err, "dodm: clCreateBuffer(points)", e)) goto done;
     bt = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, n * sizeof *T, NULL, &err);
     if (sl_cl_check(err, "dodm: clCreateBuffer(T)", e)) goto done;
+    if (B) {
+        bb = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, n * sizeof *B, NULL, &err);
+        if (sl_cl_check(err, "dodm: clCreateBuffer(B)", e)) goto done;
+    }
     cl_uint kk = K, nn = (cl_uint)n;
     sl_cl_args a = sl_cl_args_begin(k, e);
     SL_CL_ARG(&a, 0, bz);
@@ -97,11 +103,16 @@ static int lookup_points(sl_cl *cl, const char *kname, const uint32_t *z0bits, c
     SL_CL_ARG(&a, 8, bp);
     SL_CL_ARG(&a, 9, nn);
     SL_CL_ARG(&a, 10, bt);
+    if (B) SL_CL_ARG(&a, 11, bb);
     if (sl_cl_args_end(&a)) goto done;
     if (sl_cl_run1d(cl, k, kname, n, LOCAL, NULL, e)) goto done;
     if (sl_cl_check(
             clEnqueueReadBuffer(sl_cl_queue(cl), bt, CL_TRUE, 0, n * sizeof *T, T, 0, NULL, NULL),
             "dodm: read T", e))
+        goto done;
+    if (B && sl_cl_check(clEnqueueReadBuffer(sl_cl_queue(cl), bb, CL_TRUE, 0, n * sizeof *B, B, 0,
+                                             NULL, NULL),
+                         "dodm: read B", e))
         goto done;
     rc = 0;
 done:
@@ -109,21 +120,20 @@ done:
     if (bs) clReleaseMemObject(bs);
     if (bp) clReleaseMemObject(bp);
     if (bt) clReleaseMemObject(bt);
+    if (bb) clReleaseMemObject(bb);
     return rc;
 }
 
 int slcl_dodm_lookup(sl_cl *cl, const uint32_t *z0bits, const uint64_t *sat, int w, int h,
                      unsigned K, float d, float rfac, float inv_scale, const float *pts, size_t n,
                      float *T, sl_err *e) {
-    return lookup_points(cl, "sl_dodm_lookup", z0bits, sat, w, h, K, d, rfac, inv_scale, pts, n, T,
-                         e);
+    return lookup_points(cl, z0bits, sat, w, h, K, d, rfac, inv_scale, pts, n, T, NULL, e);
 }
 
-int slcl_dodm_lookup_behind(sl_cl *cl, const uint32_t *z0bits, const uint64_t *sat, int w, int h,
-                            unsigned K, float d, float rfac, float inv_scale, const float *pts,
-                            size_t n, float *B, sl_err *e) {
-    return lookup_points(cl, "sl_dodm_lookup_behind", z0bits, sat, w, h, K, d, rfac, inv_scale, pts,
-                         n, B, e);
+int slcl_dodm_lookup_both(sl_cl *cl, const uint32_t *z0bits, const uint64_t *sat, int w, int h,
+                          unsigned K, float d, float rfac, float inv_scale, const float *pts,
+                          size_t n, float *T, float *B, sl_err *e) {
+    return lookup_points(cl, z0bits, sat, w, h, K, d, rfac, inv_scale, pts, n, T, B, e);
 }
 
 int slcl_dodm_lookup_lobes_buf(sl_cl *cl, cl_mem z0bits, cl_mem sat, int w, int h, unsigned K,

@@ -24,9 +24,10 @@ int slcl_dodm_tables(sl_cl *cl, uint64_t *bins, int w, int h, unsigned K, double
 int slcl_dodm_lookup(sl_cl *cl, const uint32_t *z0bits, const uint64_t *sat, int w, int h,
                      unsigned K, float d, float rfac, float inv_scale, const float *pts, size_t n,
                      float *T, sl_err *e);
-/* The optical depth behind each point (kernels/dodm.h: sl_dodm_tau_behind). */
-int slcl_dodm_lookup_behind(sl_cl *cl, const uint32_t *z0bits, const uint64_t *sat, int w, int h,
-                            unsigned K, float d, float rfac, float inv_scale, const float *pts,
-                            size_t n, float *B, sl_err *e);
+/* The same T, and B = the optical depth behind each point, in one launch (kernels/dodm.h:
+ * sl_dodm_tau_split). */
+int slcl_dodm_lookup_both(sl_cl *cl, const uint32_t *z0bits, const uint64_t *sat, int w, int h,
+                          unsigned K, float d, float rfac, float inv_scale, const float *pts,
+                          size_t n, float *T, float *B, sl_err *e);
 
 #endif

@@ -634,16 +634,17 @@ typedef struct ljob {
     const sl_dodm *m;
     const float *pts;
     float *t;
-    int behind; /* the optical depth behind instead of T */
+    float *b; /* the optical depth behind too, or NULL */
 } ljob;
 
 static void ljob_run(void *arg, size_t begin, size_t end, int part) {
     (void)part;
     const ljob *j = arg;
     const sl_dodm *m = j->m;
-    if (j->behind)
-        slc_dodm_lookup_behind(m->z0bits, m->sat, m->view.w, m->view.h, m->K, m->d, m->rfac,
-                               m->inv_scale, j->pts + 3 * begin, end - begin, j->t + begin);
+    if (j->b)
+        slc_dodm_lookup_both(m->z0bits, m->sat, m->view.w, m->view.h, m->K, m->d, m->rfac,
+                             m->inv_scale, j->pts + 3 * begin, end - begin, j->t + begin,
+                             j->b + begin);
     else
         slc_dodm_lookup(m->z0bits, m->sat, m->view.w, m->view.h, m->K, m->d, m->rfac, m->inv_scale,
                         j->pts + 3 * begin, end - begin, j->t + begin);
@@ -651,20 +652,20 @@ static void ljob_run(void *arg, size_t begin, size_t end, int part) {
 
 /* The C lookup, in threads over contiguous point ranges when there are enough points (every
  * point's T depends only on the map and the point: the same values for any split). */
-static void lookup_c(const sl_dodm *m, const float *pts, size_t n, float *t, int behind) {
+static void lookup_c(const sl_dodm *m, const float *pts, size_t n, float *t, float *b) {
     enum { PER_THREAD = 4096 };
     int nt = sl_parallel_cpus();
     if (nt > SL_SHADOW_MAX_THREADS) nt = SL_SHADOW_MAX_THREADS;
     if ((size_t)nt > n / PER_THREAD + 1) nt = (int)(n / PER_THREAD + 1);
-    ljob job = {m, pts, t, behind};
+    ljob job = {m, pts, t, b};
     sl_parallel_parts(nt, n, ljob_run, &job);
 }
 
-/* T (behind = 0) or the optical depth behind (1) at n world points: the OpenCL kernel on an
- * OpenCL device (falling back to C where dev allows), else the C twin. */
-static int lookup_points(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz, double *out,
-                         int behind, sl_err *e) {
-    float *pts = sl_malloc((n ? n : 1) * 3 * sizeof *pts), *t = sl_malloc((n ? n : 1) * sizeof *t);
+int sl_shadow_lookup_both(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz, double *T,
+                          double *B, sl_err *e) {
+    size_t nn = n ? n : 1;
+    float *pts = sl_malloc(nn * 3 * sizeof *pts), *t = sl_malloc(nn * sizeof *t);
+    float *b = B ? sl_malloc(nn * sizeof *b) : NULL;
     for (size_t i = 0; i < n; i++) {
         double uvz[3];
         sl_light_view_project(&m->view, xyz + 3 * i, uvz);
@@ -673,31 +674,29 @@ static int lookup_points(sl_device *dev, const sl_dodm *m, size_t n, const doubl
     }
     int rc = 0;
     if (dev->is_opencl) {
-        rc = (behind ? slcl_dodm_lookup_behind
-                     : slcl_dodm_lookup)(dev->cl, m->z0bits, m->sat, m->view.w, m->view.h, m->K,
-                                         m->d, m->rfac, m->inv_scale, pts, n, t, e);
+        rc = b ? slcl_dodm_lookup_both(dev->cl, m->z0bits, m->sat, m->view.w, m->view.h, m->K, m->d,
+                                       m->rfac, m->inv_scale, pts, n, t, b, e)
+               : slcl_dodm_lookup(dev->cl, m->z0bits, m->sat, m->view.w, m->view.h, m->K, m->d,
+                                  m->rfac, m->inv_scale, pts, n, t, e);
         if (rc && !sl_device_try_fallback(dev, rc, e))
             rc = -1;
         else
             rc = 0; /* done, or dev is now the C path */
     }
-    if (!rc && !dev->is_opencl) lookup_c(m, pts, n, t, behind);
-    if (!rc)
-        for (size_t i = 0; i < n; i++)
-            out[i] = t[i];
+    if (!rc && !dev->is_opencl) lookup_c(m, pts, n, t, b);
+    for (size_t i = 0; !rc && i < n; i++) {
+        T[i] = t[i];
+        if (b) B[i] = b[i];
+    }
     free(pts);
     free(t);
+    free(b);
     return rc;
 }
 
 int sl_shadow_lookup(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz, double *T,
                      sl_err *e) {
-    return lookup_points(dev, m, n, xyz, T, 0, e);
-}
-
-int sl_shadow_lookup_behind(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz,
-                            double *B, sl_err *e) {
-    return lookup_points(dev, m, n, xyz, B, 1, e);
+    return sl_shadow_lookup_both(dev, m, n, xyz, T, NULL, e);
 }
 
 void sl_dodm_free(sl_dodm *m) {

@@ -125,10 +125,11 @@ int sl_shadow_build_maps(sl_device *dev, const sl_hair *h, int n, const double *
 /* T at n world points (xyz: 3 n doubles). */
 int sl_shadow_lookup(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz, double *T,
                      sl_err *e);
-/* The optical depth of the hair behind n world points, seen from the map's light (kernels/dodm.h:
- * sl_dodm_tau_behind): the number of fibers a light ray crosses after the point. */
-int sl_shadow_lookup_behind(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz,
-                            double *B, sl_err *e);
+/* T, and (B not NULL) the optical depth of the hair behind each point, seen from the map's light
+ * (kernels/dodm.h: sl_dodm_tau_split): the number of fibers a light ray crosses after the point.
+ * One lookup of the map per point for both. */
+int sl_shadow_lookup_both(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz, double *T,
+                          double *B, sl_err *e);
 void sl_dodm_free(sl_dodm *m);
 
 typedef struct sl_shadow_group sl_shadow_group; /* one launch's lobes and maps (shadow.c) */

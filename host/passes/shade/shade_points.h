@@ -21,7 +21,7 @@ typedef struct sl_shade_points {
     uint32_t *strand; /* n: the strand of each point (for per-strand sigma_a, r->strand_sigma_a) */
     float *T;         /* nlobes x n: transmittance toward each used lobe (1 without a map) */
     /* nlobes x n: the optical depth of the hair behind the point seen from each used lobe
-     * (sl_shadow_lookup_behind, the lobe's maps weighted as T), or NULL (MS off) */
+     * (sl_shadow_lookup_both, the lobe's maps weighted as T), or NULL (MS off) */
     float *B;
     float *out; /* SL_SHADE_FLOATS n */
 } sl_shade_points;

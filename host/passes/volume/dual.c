@@ -99,8 +99,14 @@ double sl_dual_stack_incident_factor(const sl_dual_stack *s, double m, double n)
     if (!(m > 0.0)) return 1.0;
     double tm = pow(s->t, m);
     if (!(tm > 0.0)) return 1.0; /* no light reaches the point by the march either */
-    double Tm = sl_dual_stack_transmittance_n(s, m);
-    double den = 1.0 - sl_dual_stack_reflectance_n(s, m) * sl_dual_stack_reflectance_n(s, n);
+    double Tm, Rm;
+    if (!s->lossless) { /* r > 0 and absorbing: one exp for both (the per-row hot path) */
+        double em = exp(-m * s->kappa);
+        Tm = stack_T(s, em), Rm = stack_R(s, em);
+    } else {
+        Tm = sl_dual_stack_transmittance_n(s, m), Rm = sl_dual_stack_reflectance_n(s, m);
+    }
+    double den = 1.0 - Rm * sl_dual_stack_reflectance_n(s, n);
     if (!(den > 1e-12)) den = 1e-12;
     double f = Tm / den / tm;
     return f < SL_DUAL_STACK_MAX_FACTOR ? f : SL_DUAL_STACK_MAX_FACTOR;

@@ -108,16 +108,20 @@ static int dodm_lookups(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_chec
         sl_device dc = {0}, dk = {0};
         dk.is_opencl = 1;
         dk.cl = cl;
-        int (*look)(sl_device *, const sl_dodm *, size_t, const double *, double *, sl_err *) =
-            behind ? sl_shadow_lookup_behind : sl_shadow_lookup;
-        if ((rc = look(&dk, &a, NP, xyz, ta, e)) == 0 &&
-            (rc = look(&dc, &b, NP, xyz, tb, e)) == 0) {
+        /* behind: the kernel that returns both (sl_dodm_lookup_both), its B compared; its T goes
+         * to scratch (the same T as sl_dodm_lookup's, checked above) */
+        double *scratch = sl_malloc(NP * sizeof *scratch);
+        if ((rc = sl_shadow_lookup_both(&dk, &a, NP, xyz, behind ? scratch : ta, behind ? ta : NULL,
+                                        e)) == 0 &&
+            (rc = sl_shadow_lookup_both(&dc, &b, NP, xyz, behind ? scratch : tb, behind ? tb : NULL,
+                                        e)) == 0) {
             for (int i = 0; i < NP; i++) {
                 fa[i] = (float)ta[i];
                 fb[i] = (float)tb[i];
             }
             sl_kernel_compare(fa, fb, NP, r);
         }
+        free(scratch);
         free(xyz);
         free(ta);
         free(tb);

@@ -268,7 +268,7 @@ TEST(shadow_slab_dodm_beer_lambert) {
     sl_device_close(&dev);
 }
 
-/* The optical depth behind a point (sl_shadow_lookup_behind, the stack of docs/volume.md "The
+/* The optical depth behind a point (sl_shadow_lookup_both, the stack of docs/volume.md "The
  * stack behind and in front of a fragment") on the analytic slab lit from +z: 2 r n (H - d) at
  * depth d (3 (1 - d) here), the whole column's 3 in front of the slab and 0 past it. Means of
  * 400 points over SLAB_REPS slabs; the column is the rasterized area itself (conserved exactly),
@@ -288,12 +288,15 @@ TEST(shadow_slab_behind) {
         sl_shadow_opts_default(&o);
         o.size = 128;
         sl_dodm m;
-        double dir[3] = {0, 0, 1}, xyz[3 * 400], b[400];
+        double dir[3] = {0, 0, 1}, xyz[3 * 400], T[400], b[400];
         CHECK(sl_shadow_build(&dev, &h, dir, 0.05, &o, &m, &e) == 0);
         for (int k = 0; k < 5; k++) {
             slab_points(xyz, ds[k]);
-            CHECK(sl_shadow_lookup_behind(&dev, &m, 400, xyz, b, &e) == 0);
+            CHECK(sl_shadow_lookup_both(&dev, &m, 400, xyz, T, b, &e) == 0);
+            double T1[400]; /* the T of the combined lookup is the plain lookup's, bit for bit */
+            CHECK(sl_shadow_lookup(&dev, &m, 400, xyz, T1, &e) == 0);
             for (int i = 0; i < 400; i++) {
+                CHECK(T[i] == T1[i]);
                 CHECK(b[i] >= 0);
                 B[k] += b[i] / (400.0 * SLAB_REPS);
             }
