@@ -185,14 +185,18 @@ SL_INLINE float sl_ftex_log_texel(float v) {
     return log(sl_maxf(v, 1e-30f));
 }
 
-/* Trilinear lookup in a per-vertex texture (SL_MARCH_CH floats per vertex; vertices m[0] x m[1]
- * x m[2] at lo + k H, x fastest): p is clamped onto the grid. logspace: interpolate ln(max(v,
- * 1e-30)) and return exp of it (for T_f, which falls exponentially with depth: linear weights
- * between vertices 4 voxels apart overestimate it, 0.32 instead of 0.23 against the reference's
- * 0.21 on procedural hair, docs/volume.md). logspace = 2: tex already holds ln(max(v, 1e-30))
- * (sl_ftex_log_texel, computed once per march by the C host): the same sums without the logs. */
-SL_INLINE void sl_ftex_sample(SL_GLOBAL const float *tex, int mx, int my, int mz, const float *lo,
-                              float H, const float *p, int logspace, float *out) {
+/* Where a trilinear lookup in a per-vertex texture reads (SL_MARCH_CH floats per vertex;
+ * vertices m[0] x m[1] x m[2] at lo + k H, x fastest; p clamped onto the grid): the n corners
+ * with a non-zero weight, in corner order, as texel offsets and weights. They depend on p only,
+ * so every texture of the same grid (one per lobe) reuses them. */
+typedef struct sl_ftex_corners {
+    int n;
+    int off[8]; /* vertex index x SL_MARCH_CH */
+    float w[8];
+} sl_ftex_corners;
+
+SL_INLINE void sl_ftex_corners_init(int mx, int my, int mz, const float *lo, float H,
+                                    const float *p, sl_ftex_corners *cn) {
     int m[3] = {mx, my, mz}, i0[3];
     float f[3];
     for (int a = 0; a < 3; a++) {
@@ -203,8 +207,7 @@ SL_INLINE void sl_ftex_sample(SL_GLOBAL const float *tex, int mx, int my, int mz
         i0[a] = i;
         f[a] = m[a] > 1 ? u - (float)i : 0.0f;
     }
-    for (int c = 0; c < SL_MARCH_CH; c++)
-        out[c] = 0.0f;
+    cn->n = 0;
     for (int corner = 0; corner < 8; corner++) {
         int ix = i0[0] + (corner & 1), iy = i0[1] + ((corner >> 1) & 1),
             iz = i0[2] + ((corner >> 2) & 1);
@@ -212,13 +215,36 @@ SL_INLINE void sl_ftex_sample(SL_GLOBAL const float *tex, int mx, int my, int mz
                    (((corner >> 1) & 1) ? f[1] : 1.0f - f[1]) *
                    (((corner >> 2) & 1) ? f[2] : 1.0f - f[2]);
         if (wt == 0.0f || ix >= mx || iy >= my || iz >= mz) continue;
-        SL_GLOBAL const float *t = tex + ((size_t)(iz * my + iy) * mx + ix) * SL_MARCH_CH;
+        cn->off[cn->n] = ((iz * my + iy) * mx + ix) * SL_MARCH_CH;
+        cn->w[cn->n++] = wt;
+    }
+}
+
+/* The trilinear lookup at cn (sl_ftex_corners_init). logspace: interpolate ln(max(v, 1e-30))
+ * and return exp of it (for T_f, which falls exponentially with depth: linear weights between
+ * vertices 4 voxels apart overestimate it, 0.32 instead of 0.23 against the reference's 0.21 on
+ * procedural hair, docs/volume.md). logspace = 2: tex already holds ln(max(v, 1e-30))
+ * (sl_ftex_log_texel, computed once per march by the C host): the same sums without the logs. */
+SL_INLINE void sl_ftex_sample_at(SL_GLOBAL const float *tex, const sl_ftex_corners *cn,
+                                 int logspace, float *out) {
+    for (int c = 0; c < SL_MARCH_CH; c++)
+        out[c] = 0.0f;
+    for (int k = 0; k < cn->n; k++) {
+        SL_GLOBAL const float *t = tex + cn->off[k];
         for (int c = 0; c < SL_MARCH_CH; c++)
-            out[c] += wt * (logspace == 1 ? sl_ftex_log_texel(t[c]) : t[c]);
+            out[c] += cn->w[k] * (logspace == 1 ? sl_ftex_log_texel(t[c]) : t[c]);
     }
     if (logspace)
         for (int c = 0; c < SL_MARCH_CH; c++)
             out[c] = exp(out[c]);
+}
+
+/* Trilinear lookup at p (sl_ftex_corners_init, then sl_ftex_sample_at). */
+SL_INLINE void sl_ftex_sample(SL_GLOBAL const float *tex, int mx, int my, int mz, const float *lo,
+                              float H, const float *p, int logspace, float *out) {
+    sl_ftex_corners cn;
+    sl_ftex_corners_init(mx, my, mz, lo, H, p, &cn);
+    sl_ftex_sample_at(tex, &cn, logspace, out);
 }
 
 #endif

@@ -291,6 +291,7 @@ typedef struct sl_srbf_deon_lobe {
  * point share it (kernels/srbf_chiang.h builds it once per point). */
 typedef struct sl_srbf_deon_lobe_pre {
     float v, tho, cto, sto, cv;
+    float sho, cho; /* sin, cos of tho / 2 (the half-angle forms of M_p's numerator) */
 } sl_srbf_deon_lobe_pre;
 
 SL_INLINE void sl_srbf_deon_lobe_pre_init(float v, float tho, sl_srbf_deon_lobe_pre *P) {
@@ -298,6 +299,8 @@ SL_INLINE void sl_srbf_deon_lobe_pre_init(float v, float tho, sl_srbf_deon_lobe_
     P->tho = tho;
     P->cto = cos(tho);
     P->sto = sin(tho);
+    P->sho = sin(0.5f * tho);
+    P->cho = cos(0.5f * tho);
     /* log M_p = cv - num / v + log i0e(|cos ti cos to'| / v) (sl_deon_log_mp's form of
      * Eq. 7) with the ti-independent cv hoisted and i0e applied directly (no log)
      * (cv <= 80: exp(cv) stays finite in float even for a denormal v, where the lobe is a
@@ -309,7 +312,7 @@ SL_INLINE void sl_srbf_deon_lobe_pre_init(float v, float tho, sl_srbf_deon_lobe_
 SL_INLINE int sl_srbf_deon_lobe_init_pre(const sl_srbf_deon_lobe_pre *P, float theta_j,
                                          float cos_tj, float sin_tj, float inv_l2,
                                          sl_srbf_deon_lobe *L) {
-    float v = P->v, tho = P->tho, cv = P->cv, cto = P->cto;
+    float v = P->v, cv = P->cv, cto = P->cto;
     /* the product lobe exp(a cos ti + b sin ti): G_th's 2 cos(ti - tj) / lambda^2 plus
      * log M's -sin ti sin to' / v + |cos ti cos to'| / v (log I0(y) = y + log i0e(y)) */
     float a = 2.0f * cos_tj * inv_l2 + fabs(cto) / v;
@@ -322,23 +325,33 @@ SL_INLINE int sl_srbf_deon_lobe_init_pre(const sl_srbf_deon_lobe_pre *P, float t
     float c = 0.5f * (lo + hi), h = 0.5f * (hi - lo);
     L->c = c;
     L->h = h;
+    /* Per node one sincos of ti / 2 and one exp: cos ti and the three half-angle sines and
+     * cosines below by the angle-addition formulas (absolute error ~1e-7, which the exponents
+     * scale by at most 4 / lambda^2 and 1 / v), and the exponentials of both i0e factors folded
+     * into exp(lg) (one exp of the sum: it also stays finite where exp(lg) alone overflowed). */
+    float shj = sin(0.5f * theta_j), chj = cos(0.5f * theta_j);
     for (int k = 0; k < 8; k++) {
         float ti = c + h * sl_srbf_deon_glx[k];
-        float cti = cos(ti);
+        float sa = sin(0.5f * ti), ca = cos(0.5f * ti);
+        float cti = (ca - sa) * (ca + sa);
         L->wk[k] = 0.0f;
         if (!(cti > 0.0f)) continue;
-        float sd = sin(0.5f * (ti - theta_j));
+        float sd = sa * chj - ca * shj; /* sin((ti - theta_j) / 2) */
         float cc = cti * cto, num;
         if (cc >= 0.0f) {
-            float sp = sin(0.5f * (ti + tho));
+            float sp = sa * P->cho + ca * P->sho; /* sin((ti + tho) / 2) */
             num = 2.0f * sp * sp;
         } else {
-            float cm = cos(0.5f * (ti - tho));
+            float cm = ca * P->cho + sa * P->sho; /* cos((ti - tho) / 2) */
             num = 2.0f * cm * cm;
         }
         float lg = -4.0f * sd * sd * inv_l2 + cv - num / v;
-        float z = 2.0f * SL_PI_F * sl_srbf_i0e_fast(2.0f * cti * cos_tj * inv_l2);
-        float w = sl_srbf_deon_glw[k] * h * cti * z * exp(lg) * sl_srbf_i0e_fast(fabs(cc) / v);
+        float y2 = 2.0f * cti * cos_tj * inv_l2, y1 = fabs(cc) / v;
+        int e2, e1;
+        float p2 = sl_srbf_i0e_poly(y2, &e2), p1 = sl_srbf_i0e_poly(y1, &e1);
+        if (e2) lg -= y2;
+        if (e1) lg -= y1;
+        float w = sl_srbf_deon_glw[k] * h * cti * (2.0f * SL_PI_F * p2) * exp(lg) * p1;
         if (w > 0.0f && w <= SL_FLT_MAX) L->wk[k] = w;
         L->wsum += L->wk[k];
     }

@@ -689,10 +689,16 @@ TEST(frame_estimate_matches_sizes) {
     /* x SL_SHADOW_SPLIT_MAPS_PER_LOBE maps per lobe (broad lobes are split, shadow_split.h) */
     CHECK_NEAR(c - b, 2.0 * (32.0 * 32 - 16 * 16) * (4 + 8 * 4), 0.5);
     CHECK_NEAR((double)sl_frame_estimate_bytes(&s, 16), b, 0.5); /* the option overrides */
-    /* broad lobes subdivided (host/lighting/lobe_subdivide.h): at most 1 + SL_SUBDIV_SET_MAX = 52
-     * maps and as many lobes shaded (a T float per lobe per point) instead of 2 maps and 1 lobe */
+    /* broad lobes subdivided (host/lighting/lobe_subdivide.h): at most the lobe plus the
+     * ceil(4 pi (0.5 / w)^2) sub-lobes of quality.sublobe_width w (35 at the default 0.3, 51 at
+     * 0.25) maps and as many lobes shaded (a T float per lobe per point) instead of 2 maps and
+     * 1 lobe: the scene's width, not the finest one */
     s.broad_lobes = SL_BROAD_SUBDIVIDE;
+    s.sublobe_width = 0.3;
     double d = (double)sl_frame_estimate_bytes(&s, 0);
+    CHECK_NEAR(d - c, (36.0 - 2.0) * 32 * 32 * (4 + 8 * 4) + 5000.0 * 8 * 4 * (36 - 1), 0.5);
+    s.sublobe_width = 0.25;
+    d = (double)sl_frame_estimate_bytes(&s, 0);
     CHECK_NEAR(d - c, (52.0 - 2.0) * 32 * 32 * (4 + 8 * 4) + 5000.0 * 8 * 4 * (52 - 1), 0.5);
     s.broad_lobes = SL_BROAD_SPLIT;
     CHECK(sl_frame_oit_k(&s) == 8);

@@ -234,6 +234,8 @@ static void accumulate(const shade_common *sc, rowbuf *b) {
         for (size_t k = 0; k < b->nf; k++)
             memcpy(b->res + 9 * (size_t)b->fidx[k], b->fres + 9 * k, 9 * sizeof *b->res);
     }
+    sl_ftex_corners cn; /* where point i reads the lobes' T_f textures: rows of a point are */
+    size_t cn_pt = (size_t)-1; /* consecutive, so once per point */
     for (size_t k = 0; k < b->nr; k++) {
         size_t i = b->rpt[k];
         int j = b->rlobe[k];
@@ -243,7 +245,8 @@ static void accumulate(const shade_common *sc, rowbuf *b) {
         float ms[3] = {0, 0, 0};
         if (c->ms_on) {
             float Tf[3], sf[3];
-            sl_ftex_lookup(c->ftex, j, p->pos + 3 * i, Tf, sf);
+            if (cn_pt != i) sl_ftex_at(c->ftex, p->pos + 3 * i, &cn), cn_pt = i;
+            sl_ftex_lookup_at(c->ftex, j, &cn, Tf, sf);
             const float *x = b->in + 5 * k;
             const float *sa = sc->ssig && c->msn ? sc->ssig + 3 * (size_t)p->strand[i] : NULL;
             float MG[3], ML[3];

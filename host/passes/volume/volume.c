@@ -238,17 +238,25 @@ out:
     return rc;
 }
 
-void sl_ftex_lookup(const sl_ftex *f, int lobe, const double p[3], float T[3], float sigma[3]) {
-    size_t nvert = (size_t)f->m[0] * f->m[1] * f->m[2];
+void sl_ftex_at(const sl_ftex *f, const double p[3], sl_ftex_corners *cn) {
     float pf[3] = {(float)p[0], (float)p[1], (float)p[2]};
+    sl_ftex_corners_init(f->m[0], f->m[1], f->m[2], f->lo, f->H, pf, cn);
+}
+
+void sl_ftex_lookup_at(const sl_ftex *f, int lobe, const sl_ftex_corners *cn, float T[3],
+                       float sigma[3]) {
+    size_t nvert = (size_t)f->m[0] * f->m[1] * f->m[2];
     if (f->logT)
-        sl_ftex_sample(f->logT + (size_t)lobe * nvert * SL_MARCH_CH, f->m[0], f->m[1], f->m[2],
-                       f->lo, f->H, pf, 2, T);
+        sl_ftex_sample_at(f->logT + (size_t)lobe * nvert * SL_MARCH_CH, cn, 2, T);
     else
-        sl_ftex_sample(f->T + (size_t)lobe * nvert * SL_MARCH_CH, f->m[0], f->m[1], f->m[2], f->lo,
-                       f->H, pf, 1, T);
-    sl_ftex_sample(f->sigma + (size_t)lobe * nvert * SL_MARCH_CH, f->m[0], f->m[1], f->m[2], f->lo,
-                   f->H, pf, 0, sigma);
+        sl_ftex_sample_at(f->T + (size_t)lobe * nvert * SL_MARCH_CH, cn, 1, T);
+    sl_ftex_sample_at(f->sigma + (size_t)lobe * nvert * SL_MARCH_CH, cn, 0, sigma);
+}
+
+void sl_ftex_lookup(const sl_ftex *f, int lobe, const double p[3], float T[3], float sigma[3]) {
+    sl_ftex_corners cn;
+    sl_ftex_at(f, p, &cn);
+    sl_ftex_lookup_at(f, lobe, &cn, T, sigma);
 }
 
 void sl_ftex_free(sl_ftex *f) {

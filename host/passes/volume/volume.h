@@ -21,6 +21,7 @@
 #include "cl/clrt.h"
 #include "passes/volume/dual.h"
 #include "io/hair/hair.h"
+#include "march.h" /* sl_ftex_corners */
 
 #include <stdint.h>
 
@@ -79,6 +80,10 @@ int sl_march_build(sl_device *dev, const sl_voxel_grid *g, const sl_dual_tables 
 /* T_f and sigma_f (3 channels each) of lobe at world point p (clamped to the grid): trilinear,
  * T_f in log space (kernels/march.h sl_ftex_sample). */
 void sl_ftex_lookup(const sl_ftex *f, int lobe, const double p[3], float T[3], float sigma[3]);
+/* The same in two steps: where p reads (the same for every lobe), then lobe's values there. */
+void sl_ftex_at(const sl_ftex *f, const double p[3], sl_ftex_corners *cn);
+void sl_ftex_lookup_at(const sl_ftex *f, int lobe, const sl_ftex_corners *cn, float T[3],
+                       float sigma[3]);
 void sl_ftex_free(sl_ftex *f);
 
 #endif
