@@ -27,7 +27,7 @@ typedef struct mlobe {
     sl_uint lobe;
     int paths;
     uint32_t seed;
-    float *ptab, *outT, *outS; /* outT, outS: this lobe's block (nverts * SL_MARCH_CH) */
+    float *ptab, *outT, *outS, *outG; /* out*: this lobe's block (nverts * SL_MARCH_CH) */
 } mlobe;
 
 /* Filled voxels begin .. end - 1 (of the list): their event probability toward the lobe. */
@@ -49,7 +49,8 @@ static void vert_chunk(void *arg, size_t begin, size_t end, int worker) {
     for (size_t v = begin; v < end; v++)
         sl_march_vertex(j->vox, j->n[0], j->n[1], j->n[2], j->lo, j->h, j->tabs, j->verts + 3 * v,
                         j->w, j->seed, j->vert_ids[v], j->lobe, j->paths, j->ptab,
-                        j->outT + v * SL_MARCH_CH, j->outS + v * SL_MARCH_CH);
+                        j->outT + v * SL_MARCH_CH, j->outS + v * SL_MARCH_CH,
+                        j->outG + v * SL_MARCH_CH);
 }
 
 /* Lobe by lobe: the lobe's event probability of every filled voxel (one exp per voxel instead of
@@ -60,7 +61,7 @@ static void vert_chunk(void *arg, size_t begin, size_t end, int worker) {
 void slc_march_threads(const float *vox, const int n[3], const float lo[3], float h,
                        const float *tabs, const float *verts, const uint32_t *vert_ids,
                        size_t nverts, const float *dirs, size_t nlobes, int paths, uint32_t seed,
-                       float *outT, float *outS, int nthreads) {
+                       float *outT, float *outS, float *outG, int nthreads) {
     if (nverts == 0 || nlobes == 0) return;
     const size_t nvox = (size_t)n[0] * n[1] * n[2];
     if (nthreads < 1) nthreads = 1;
@@ -85,7 +86,8 @@ void slc_march_threads(const float *vox, const int n[3], const float lo[3], floa
                      seed,
                      ptab,
                      outT + l * nverts * SL_MARCH_CH,
-                     outS + l * nverts * SL_MARCH_CH};
+                     outS + l * nverts * SL_MARCH_CH,
+                     outG + l * nverts * SL_MARCH_CH};
         sl_parallel_for(nthreads, nfilled, VOX_CHUNK, ptab_chunk, &job);
         sl_parallel_for(nthreads, nverts, VERT_CHUNK, vert_chunk, &job);
     }
@@ -95,7 +97,7 @@ void slc_march_threads(const float *vox, const int n[3], const float lo[3], floa
 
 void slc_march(const float *vox, const int n[3], const float lo[3], float h, const float *tabs,
                const float *verts, const uint32_t *vert_ids, size_t nverts, const float *dirs,
-               size_t nlobes, int paths, uint32_t seed, float *outT, float *outS) {
+               size_t nlobes, int paths, uint32_t seed, float *outT, float *outS, float *outG) {
     slc_march_threads(vox, n, lo, h, tabs, verts, vert_ids, nverts, dirs, nlobes, paths, seed, outT,
-                      outS, 1);
+                      outS, outG, 1);
 }

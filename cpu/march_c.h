@@ -7,12 +7,13 @@
 #include <stdint.h>
 
 /* For every (lobe l < nlobes, vertex v < nverts): out index g = l * nverts + v, SL_MARCH_CH floats
- * of T_f in outT and of sigma_f in outS. vox: the finalized grid (n, lo, h); tabs: SL_MARCH_CH dual
- * tables; verts: 3 floats per vertex, vert_ids: each vertex's id in the coarse grid (the random
- * stream); dirs: 3 floats per lobe (unit, toward the light). */
+ * of T_f in outT, of sigma_f in outS and of tilt2 in outG (kernels/march.h). vox: the finalized
+ * grid (n, lo, h); tabs: SL_MARCH_CH dual tables; verts: 3 floats per vertex, vert_ids: each
+ * vertex's id in the coarse grid (the random stream); dirs: 3 floats per lobe (unit, toward the
+ * light). */
 void slc_march(const float *vox, const int n[3], const float lo[3], float h, const float *tabs,
                const float *verts, const uint32_t *vert_ids, size_t nverts, const float *dirs,
-               size_t nlobes, int paths, uint32_t seed, float *outT, float *outS);
+               size_t nlobes, int paths, uint32_t seed, float *outT, float *outS, float *outG);
 
 /* The same outputs computed by nthreads threads (lobe by lobe, the threads take chunks of voxels
  * and then of vertices from a shared counter; every output depends only on its own (vertex, lobe)
@@ -21,6 +22,6 @@ void slc_march(const float *vox, const int n[3], const float lo[3], float h, con
 void slc_march_threads(const float *vox, const int n[3], const float lo[3], float h,
                        const float *tabs, const float *verts, const uint32_t *vert_ids,
                        size_t nverts, const float *dirs, size_t nlobes, int paths, uint32_t seed,
-                       float *outT, float *outS, int nthreads);
+                       float *outT, float *outS, float *outG, int nthreads);
 
 #endif

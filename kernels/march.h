@@ -13,8 +13,16 @@
  * A vertex stores, per channel, the mean over its paths and the energy-weighted spread:
  *     T_f = mean_p T_p,   sigma_f = sqrt(sum_p T_p s2_p / sum_p T_p)
  * (sigma_f in the material's width convention, exp(-x^2 / sigma_f^2); it excludes the lobe's own
- * width lambda, which the response adds: Xu Eq. 5). Random numbers are a counter-based hash of
- * (seed, vertex, lobe, path, step), so both backends draw the same numbers. */
+ * width lambda, which the response adds: Xu Eq. 5), and the energy-weighted tilt of the fibers the
+ * light crossed against the fiber at the vertex,
+ *     tilt2 = sum_p T_p g2_p / sum_p T_p,   g2_p = sum_events |t_k - d_x|^2 + dev_x^2
+ * (t_k the event's unit fiber, signed toward d_x; d_x, dev_x the mean direction and spread of the
+ * vertex's voxel, or of the first event's voxel when the vertex's is empty): an event on a fiber
+ * at angle delta to the shading fiber turns the light's inclination to it by delta times the
+ * sine of half the azimuthal deflection, so the response widens sigma_f^2 by the material's
+ * 2 E[1 + cos phi] per unit tilt2 (docs/volume.md "Where the scattered light goes"). Random
+ * numbers are a counter-based hash of (seed, vertex, lobe, path, step), so both backends draw the
+ * same numbers. */
 #ifndef SL_MARCH_H
 #define SL_MARCH_H
 
@@ -76,19 +84,52 @@ SL_INLINE float sl_march_event_p(SL_GLOBAL const float *vx, const float *w, floa
     return 1.0f - exp(-vx[SL_VOX_SIGMA] * sl_vox_alpha(vx, w[0], w[1], w[2]) * delta);
 }
 
-/* One shadow path from x toward w; T and s2 (SL_MARCH_CH each) start at 1 and 0. tabs: SL_MARCH_CH
- * dual tables (SL_DUAL_TABLE_FLOATS each). ptab: 0, or this lobe's sl_march_event_p of every
- * voxel (0 where sigma is 0) precomputed with delta = 0.5 h (the C twin: one exp per voxel
- * instead of one per step; the same floats, so the same events). Returns the number of events. */
+/* The reference fiber of a vertex's tilt (the top of the file): ref[0..2] the mean direction of
+ * the voxel holding x and ref[3] its spread dev, or ref[3] = -1 when that voxel is empty (each
+ * path then takes its first event's voxel). */
+SL_INLINE void sl_march_tilt_ref(SL_GLOBAL const float *vox, int nx, int ny, int nz,
+                                 const float *lo, float h, const float *x, float *ref) {
+    int v = sl_vox_index(x[0], x[1], x[2], nx, ny, nz, lo[0], lo[1], lo[2], 1.0f / h);
+    ref[0] = ref[1] = ref[2] = 0.0f;
+    ref[3] = -1.0f;
+    if (v < 0) return;
+    SL_GLOBAL const float *vx = vox + (size_t)v * SL_VOX_FIELDS;
+    if (!(vx[SL_VOX_SIGMA] > 0.0f)) return;
+    ref[0] = vx[SL_VOX_DIRX], ref[1] = vx[SL_VOX_DIRY], ref[2] = vx[SL_VOX_DIRZ];
+    ref[3] = vx[SL_VOX_DEV];
+}
+
+/* |t - d|^2 + dev^2 for unit d and t of length tn, t's sign turned toward d (fibers have no
+ * direction). */
+SL_INLINE float sl_march_tilt2(const float *t, float tn, const float *d, float dev) {
+    float inv = tn > 0.0f ? 1.0f / tn : 0.0f;
+    float dp = t[0] * d[0] + t[1] * d[1] + t[2] * d[2];
+    float sg = dp < 0.0f ? -inv : inv, g = dev * dev;
+    for (int q = 0; q < 3; q++) {
+        float z = t[q] * sg - d[q];
+        g += z * z;
+    }
+    return g;
+}
+
+/* One shadow path from x toward w; T and s2 (SL_MARCH_CH each) start at 1 and 0, *g2 (the sum of
+ * the events' tilts, sl_march_tilt2) at 0. ref: the vertex's reference fiber (sl_march_tilt_ref).
+ * tabs: SL_MARCH_CH dual tables (SL_DUAL_TABLE_FLOATS each). ptab: 0, or this lobe's
+ * sl_march_event_p of every voxel (0 where sigma is 0) precomputed with delta = 0.5 h (the C twin:
+ * one exp per voxel instead of one per step; the same floats, so the same events). Returns the
+ * number of events. */
 SL_INLINE int sl_march_path(SL_GLOBAL const float *vox, int nx, int ny, int nz, const float *lo,
                             float h, SL_GLOBAL const float *tabs, const float *x, const float *w,
                             sl_uint seed, sl_uint vert, sl_uint lobe, sl_uint path,
-                            SL_GLOBAL const float *ptab, float *T, float *s2) {
+                            SL_GLOBAL const float *ptab, const float *ref, float *T, float *s2,
+                            float *g2) {
     const float delta = 0.5f * h, inv_h = 1.0f / h;
     const float tex = sl_march_exit(x, w, nx, ny, nz, lo, h);
     const sl_uint key = sl_march_rand_key(seed, vert, lobe, path);
     const float j = sl_march_rand_at(key, 0xffffffffu);
     int events = 0;
+    float d0[3] = {ref[0], ref[1], ref[2]}, dev0 = ref[3];
+    *g2 = 0.0f;
     for (int c = 0; c < SL_MARCH_CH; c++) {
         T[c] = 1.0f;
         s2[c] = 0.0f;
@@ -133,6 +174,11 @@ SL_INLINE int sl_march_path(SL_GLOBAL const float *vox, int nx, int ny, int nz, 
                 t[q] = d[q] + g1 * e1[q] + g2 * e2[q];
         }
         float tn = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+        if (dev0 < 0.0f) { /* no fiber at the vertex: the first event's voxel stands for it */
+            d0[0] = d[0], d0[1] = d[1], d0[2] = d[2];
+            dev0 = dev;
+        }
+        *g2 += sl_march_tilt2(t, tn, d0, dev0);
         float cw = tn > 0.0f ? fabs(w[0] * t[0] + w[1] * t[1] + w[2] * t[2]) / tn : 0.0f;
         float theta = asin(sl_minf(cw, 1.0f));
         /* Every row of every channel's table has the same nodes: the interval and fraction of
@@ -156,27 +202,32 @@ SL_INLINE int sl_march_path(SL_GLOBAL const float *vox, int nx, int ny, int nz, 
     return events;
 }
 
-/* All paths of one (vertex, lobe): T_f and sigma_f per channel (see the top of the file). */
+/* All paths of one (vertex, lobe): T_f, sigma_f and tilt2 per channel (the top of the file). */
 SL_INLINE void sl_march_vertex(SL_GLOBAL const float *vox, int nx, int ny, int nz, const float *lo,
                                float h, SL_GLOBAL const float *tabs, const float *x, const float *w,
                                sl_uint seed, sl_uint vert, sl_uint lobe, int paths,
-                               SL_GLOBAL const float *ptab, float *Tf, float *sf) {
-    float sT[SL_MARCH_CH], sTs[SL_MARCH_CH], ss[SL_MARCH_CH];
+                               SL_GLOBAL const float *ptab, float *Tf, float *sf, float *tilt2) {
+    float sT[SL_MARCH_CH], sTs[SL_MARCH_CH], ss[SL_MARCH_CH], sTg[SL_MARCH_CH], sg = 0.0f;
+    float ref[4];
+    sl_march_tilt_ref(vox, nx, ny, nz, lo, h, x, ref);
     for (int c = 0; c < SL_MARCH_CH; c++)
-        sT[c] = sTs[c] = ss[c] = 0.0f;
+        sT[c] = sTs[c] = ss[c] = sTg[c] = 0.0f;
     for (int p = 0; p < paths; p++) {
-        float T[SL_MARCH_CH], s2[SL_MARCH_CH];
-        sl_march_path(vox, nx, ny, nz, lo, h, tabs, x, w, seed, vert, lobe, (sl_uint)p, ptab, T,
-                      s2);
+        float T[SL_MARCH_CH], s2[SL_MARCH_CH], g2;
+        sl_march_path(vox, nx, ny, nz, lo, h, tabs, x, w, seed, vert, lobe, (sl_uint)p, ptab, ref,
+                      T, s2, &g2);
         for (int c = 0; c < SL_MARCH_CH; c++) {
             sT[c] += T[c];
             sTs[c] += T[c] * s2[c];
             ss[c] += s2[c];
+            sTg[c] += T[c] * g2;
         }
+        sg += g2;
     }
     for (int c = 0; c < SL_MARCH_CH; c++) {
         Tf[c] = sT[c] / (float)paths;
         sf[c] = sqrt(sT[c] > 0.0f ? sTs[c] / sT[c] : ss[c] / (float)paths);
+        tilt2[c] = sT[c] > 0.0f ? sTg[c] / sT[c] : sg / (float)paths;
     }
 }
 

@@ -71,16 +71,36 @@ SL_INLINE int sl_mst_cell(float f, int n, float *frac) {
     return i;
 }
 
-/* M^G and M^L of one channel from its table mt (SL_MST_FLOATS; __global in OpenCL): the same
- * arguments and meaning as sl_ms_response_1 (kernels/ms_response.h), which is the reference. */
-SL_INLINE void sl_ms_table_1(const sl_fiber_params *fp, SL_GLOBAL const float *mt, float theta_o,
-                             float phi_o, float theta_j, float phi_j, float lambda, float sigma_f,
-                             float *MG, float *ML) {
-    float s2 = lambda * lambda + sigma_f * sigma_f, sF = sqrt(s2);
-    float ctj = cos(theta_j), D = sl_minf(fabs(sl_wrap_pi(phi_o - phi_j)), SL_PI_F);
-    *MG = 0.0f;
-    *ML = 0.0f;
-    if (!(ctj > 1e-4f) || !(sF > 0.0f)) return;
+/* Where a row reads the table, apart from s_F: the cells and fractions of theta_o, theta_j, D and
+ * u = theta_j - theta_o, and cos theta_j. */
+typedef struct sl_mst_row {
+    int io, ij, id, iu;
+    float fo, fj, fd, fu, ctj, D;
+} sl_mst_row;
+
+SL_INLINE void sl_mst_row_init(float theta_o, float phi_o, float theta_j, float phi_j,
+                               sl_mst_row *r) {
+    r->ctj = cos(theta_j);
+    r->D = sl_minf(fabs(sl_wrap_pi(phi_o - phi_j)), SL_PI_F);
+    r->io = sl_mst_cell((theta_o + SL_DUAL_HALF_PI) * ((float)(SL_MST_NO - 1) / SL_PI_F), SL_MST_NO,
+                        &r->fo);
+    r->ij = sl_mst_cell((theta_j + SL_DUAL_HALF_PI) * ((float)(SL_MST_NJ - 1) / SL_PI_F), SL_MST_NJ,
+                        &r->fj);
+    r->id = sl_mst_cell(r->D * ((float)(SL_MST_ND - 1) / SL_PI_F), SL_MST_ND, &r->fd);
+    r->iu = sl_mst_cell((theta_j - theta_o + SL_PI_F) * ((float)(SL_MST_NU - 1) / (2.0f * SL_PI_F)),
+                        SL_MST_NU, &r->fu);
+}
+
+/* The table coordinate of s_F (in [0, 1], clamped at SL_MST_SMAX). */
+SL_INLINE float sl_mst_xs(float sF) {
+    float xmax = SL_MST_SMAX / (SL_MST_SMAX + SL_MST_S0);
+    return sF / (sF + SL_MST_S0) / xmax;
+}
+
+/* M^G of row r at s2 = s_F^2 (the top of the file). */
+SL_INLINE float sl_mst_global(const sl_fiber_params *fp, SL_GLOBAL const float *mt,
+                              const sl_mst_row *r, float theta_o, float theta_j, float s2) {
+    float sF = sqrt(s2);
     /* Separable Gaussians of the global term, per mode (the top of the file). */
     float G[3];
     for (int t = 0; t < 3; t++) {
@@ -88,44 +108,84 @@ SL_INLINE void sl_ms_table_1(const sl_fiber_params *fp, SL_GLOBAL const float *m
         float w2 = s2 + 4.0f * bt * bt, d = theta_j + theta_o - 2.0f * fp->alpha[t];
         G[t] = 2.0f / (SL_SQRT_PI_F * sqrt(w2)) * exp(-d * d / w2);
     }
-    float fo, fj, fs, fd, fu, fb;
-    int io = sl_mst_cell((theta_o + SL_DUAL_HALF_PI) * ((float)(SL_MST_NO - 1) / SL_PI_F),
-                         SL_MST_NO, &fo);
-    int ij = sl_mst_cell((theta_j + SL_DUAL_HALF_PI) * ((float)(SL_MST_NJ - 1) / SL_PI_F),
-                         SL_MST_NJ, &fj);
-    float xmax = SL_MST_SMAX / (SL_MST_SMAX + SL_MST_S0);
-    float xs = sF / (sF + SL_MST_S0) / xmax;
+    float fs;
+    int is = sl_mst_cell(sl_mst_xs(sF) * (float)(SL_MST_NS - 1), SL_MST_NS, &fs);
+    float mg = 0.0f;
+    for (int c = 0; c < 8; c++) {
+        int a = c & 1, b = (c >> 1) & 1, e = c >> 2;
+        float w = (a ? r->fo : 1.0f - r->fo) * (b ? r->fj : 1.0f - r->fj) * (e ? fs : 1.0f - fs);
+        SL_GLOBAL const float *v =
+            mt +
+            ((size_t)((r->io + a) * SL_MST_NJ + r->ij + b) * SL_MST_NS + is + e) * SL_MST_STRIDE;
+        float g = 0.0f;
+        for (int t = 0; t < 3; t++) {
+            SL_GLOBAL const float *q = v + t * SL_MST_ND + r->id;
+            g += G[t] * (q[0] + r->fd * (q[1] - q[0]));
+        }
+        mg += w * g;
+    }
+    return mg / r->ctj;
+}
+
+/* M^L of row r at s2 = s_F^2 (the top of the file). */
+SL_INLINE float sl_mst_local(SL_GLOBAL const float *mt, const sl_mst_row *r, float theta_o,
+                             float theta_j, float s2) {
+    float xs = sl_mst_xs(sqrt(s2)), fs, fb;
     int is = sl_mst_cell(xs * (float)(SL_MST_NS - 1), SL_MST_NS, &fs);
-    int id = sl_mst_cell(D * ((float)(SL_MST_ND - 1) / SL_PI_F), SL_MST_ND, &fd);
-    int iu =
-        sl_mst_cell((theta_j - theta_o + SL_PI_F) * ((float)(SL_MST_NU - 1) / (2.0f * SL_PI_F)),
-                    SL_MST_NU, &fu);
     /* The local term's Gaussian from the 2-D table (bilinear in u, s). */
     int ib = sl_mst_cell(xs * (float)(SL_MST_NSB - 1), SL_MST_NSB, &fb);
-    SL_GLOBAL const float *b0 = mt + SL_MST_MAIN + (size_t)(iu * SL_MST_NSB + ib) * 2;
+    SL_GLOBAL const float *b0 = mt + SL_MST_MAIN + (size_t)(r->iu * SL_MST_NSB + ib) * 2;
     SL_GLOBAL const float *b1 = b0 + SL_MST_NSB * 2;
+    float fu = r->fu;
     float dB =
         (1.0f - fu) * ((1.0f - fb) * b0[0] + fb * b0[2]) + fu * ((1.0f - fb) * b1[0] + fb * b1[2]);
     float sB =
         (1.0f - fu) * ((1.0f - fb) * b0[1] + fb * b0[3]) + fu * ((1.0f - fb) * b1[1] + fb * b1[3]);
     float wb2 = s2 + sB * sB, db = theta_j + theta_o - dB;
     float Gb = exp(-db * db / wb2) / (SL_SQRT_PI_F * sqrt(wb2));
-    float mg = 0.0f, ml = 0.0f;
+    float ml = 0.0f;
     for (int c = 0; c < 8; c++) {
         int a = c & 1, b = (c >> 1) & 1, e = c >> 2;
-        float w = (a ? fo : 1.0f - fo) * (b ? fj : 1.0f - fj) * (e ? fs : 1.0f - fs);
+        float w = (a ? r->fo : 1.0f - r->fo) * (b ? r->fj : 1.0f - r->fj) * (e ? fs : 1.0f - fs);
         SL_GLOBAL const float *v =
-            mt + ((size_t)((io + a) * SL_MST_NJ + ij + b) * SL_MST_NS + is + e) * SL_MST_STRIDE;
-        float g = 0.0f;
-        for (int t = 0; t < 3; t++) {
-            SL_GLOBAL const float *r = v + t * SL_MST_ND + id;
-            g += G[t] * (r[0] + fd * (r[1] - r[0]));
-        }
-        mg += w * g;
+            mt +
+            ((size_t)((r->io + a) * SL_MST_NJ + r->ij + b) * SL_MST_NS + is + e) * SL_MST_STRIDE;
         ml += w * v[3 * SL_MST_ND];
     }
-    *MG = mg / ctj;
-    *ML = 2.0f / ctj * (SL_PI_F - D) / (SL_PI_F * SL_PI_F) * Gb * ml;
+    return 2.0f / r->ctj * (SL_PI_F - r->D) / (SL_PI_F * SL_PI_F) * Gb * ml;
+}
+
+/* M^G and M^L of one channel from its table mt (SL_MST_FLOATS; __global in OpenCL): the same
+ * arguments and meaning as sl_ms_response_1 (kernels/ms_response.h), which is the reference. */
+SL_INLINE void sl_ms_table_1(const sl_fiber_params *fp, SL_GLOBAL const float *mt, float theta_o,
+                             float phi_o, float theta_j, float phi_j, float lambda, float sigma_f,
+                             float *MG, float *ML) {
+    float s2 = lambda * lambda + sigma_f * sigma_f;
+    sl_mst_row r;
+    sl_mst_row_init(theta_o, phi_o, theta_j, phi_j, &r);
+    *MG = 0.0f;
+    *ML = 0.0f;
+    if (!(r.ctj > 1e-4f) || !(sqrt(s2) > 0.0f)) return;
+    *MG = sl_mst_global(fp, mt, &r, theta_o, theta_j, s2);
+    *ML = sl_mst_local(mt, &r, theta_o, theta_j, s2);
+}
+
+/* The same row at three spreads (sigma_g, sigma_i for M^G, sigma_l for M^L; docs/volume.md
+ * "Where the scattered light goes"): each value equals sl_ms_table_1's at that spread, the row's
+ * cells found once. */
+SL_INLINE void sl_ms_table_spread(const sl_fiber_params *fp, SL_GLOBAL const float *mt,
+                                  float theta_o, float phi_o, float theta_j, float phi_j,
+                                  float lambda, float sigma_g, float sigma_i, float sigma_l,
+                                  float *MG, float *MGi, float *ML) {
+    float l2 = lambda * lambda;
+    float sg2 = l2 + sigma_g * sigma_g, si2 = l2 + sigma_i * sigma_i, sl2 = l2 + sigma_l * sigma_l;
+    sl_mst_row r;
+    sl_mst_row_init(theta_o, phi_o, theta_j, phi_j, &r);
+    *MG = *MGi = *ML = 0.0f;
+    if (!(r.ctj > 1e-4f)) return;
+    if (sqrt(sg2) > 0.0f) *MG = sl_mst_global(fp, mt, &r, theta_o, theta_j, sg2);
+    if (sqrt(si2) > 0.0f) *MGi = sl_mst_global(fp, mt, &r, theta_o, theta_j, si2);
+    if (sqrt(sl2) > 0.0f) *ML = sl_mst_local(mt, &r, theta_o, theta_j, sl2);
 }
 
 #endif

@@ -8,6 +8,7 @@
 #include "plan/passes.h"
 #include "passes/shade/shade_points.h"
 #include "passes/view/frame_view.h"
+#include "passes/volume/dual_deflect.h"
 
 /* One frame's working state, passed from pass to pass (freed at the end of the frame). */
 typedef struct sl_frame_work {
@@ -43,6 +44,7 @@ struct sl_renderer {
     double *light_w; /* each map's weight in its lobe's T (host/passes/light/shadow_split.h) */
     sl_dodm *light;
     sl_dual_tables dual;
+    sl_dual_deflect deflect; /* the material's azimuthal deflections, with dual */
     int dual_ok;
     uint64_t vox_key; /* voxel grid (geometry, quality.voxels): a material edit keeps it */
     int have_vgrid;

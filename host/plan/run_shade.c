@@ -117,6 +117,7 @@ int sl_pass_shade(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
                        s->point_threshold,
                        r->strand_sigma_a,
                        r->have_msn ? &r->msn : NULL,
+                       NULL,
                        NULL};
     sl_dual_stack stack[3];
     if (r->ms_on && pts->B && r->dual_ok) { /* the march's tables: the strands' mean sigma_a */
@@ -127,6 +128,7 @@ int sl_pass_shade(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
         }
         sc.stack = stack;
     }
+    if (r->ms_on && r->dual_ok) sc.deflect = &r->deflect;
     if (sl_frame_shade(r, &sc, pts, e)) return -1;
     double lobes_eval = 0;
     for (size_t i = 0; i < pts->n; i++)

@@ -110,6 +110,7 @@ int sl_pass_dual(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     sl_material m;
     sl_frame_ms_material(r, in, &m);
     if (sl_dual_tables_build(&m, &r->dual, e)) return -1;
+    sl_dual_deflect_build(&m, &r->dual, &r->deflect);
     r->dual_ok = 1;
     if (r->strand_sigma_a)
         sl_frame_why(r, "dual-scattering tables of the strands' mean sigma_a %.4g %.4g %.4g",

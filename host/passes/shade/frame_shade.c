@@ -224,6 +224,50 @@ static int eval_rows_cl(const shade_common *sc, rowbuf *b, sl_err *e) {
     return k;
 }
 
+/* M^G and M^L of one row x (theta_o, phi_o, theta_j, phi_j, lambda) at spread sf: from the
+ * strand's sigma_a nodes (sa) or the material's table (sa NULL). */
+static void ms_terms(const sl_shade_ctx *c, const float *sa, const float *x, const float sf[3],
+                     float MG[3], float ML[3]) {
+    if (sa)
+        sl_volume_ms_nodes_terms(c->msn, sa, x[0], x[1], x[2], x[3], x[4], sf, MG, ML);
+    else
+        sl_volume_ms_terms(c->vms, x[0], x[1], x[2], x[3], x[4], sf, MG, ML);
+}
+
+/* M^G, M^G of the interreflected light (MGi) and M^L of row x (lobe j, point at cn) with the
+ * spreads of docs/volume.md "Where the scattered light goes": the march's sigma_f widened by
+ * the tilt of the fibers the light crossed (kf tilt2), the local term by the tilts of the fiber
+ * and those behind it (kb 2 dev2), the interreflected light by two backscatterings (2 (sb2 + kb
+ * 2 dev2)); each scaled to carry the energy of the march's own spread (sl_dual_deflect_norm). */
+static void ms_spread_terms(const sl_shade_ctx *c, const float *sa, const float *x,
+                            const sl_ftex_corners *cn, int j, const float sf[3],
+                            const float dev2[3], float MG[3], float MGi[3], float ML[3]) {
+    const sl_dual_deflect *d = c->deflect;
+    float tilt2[3], sg[3], sl[3], si[3], unused[3];
+    sl_ftex_tilt_at(c->ftex, j, cn, tilt2);
+    for (int col = 0; col < 3; col++) {
+        float g2 = sf[col] * sf[col] + d->kf[col] * tilt2[col];
+        float loc = d->kb[col] * 2.0f * dev2[col]; /* two fibers' tilts */
+        sg[col] = sqrtf(g2);
+        sl[col] = sqrtf(g2 + loc);
+        si[col] = sqrtf(g2 + 2.0f * (d->sb2[col] + loc));
+    }
+    if (sa) {
+        ms_terms(c, sa, x, sg, MG, unused);
+        ms_terms(c, sa, x, sl, unused, ML);
+        ms_terms(c, sa, x, si, MGi, unused);
+    } else {
+        sl_volume_ms_terms_spread(c->vms, x[0], x[1], x[2], x[3], x[4], sg, si, sl, MG, MGi, ML);
+    }
+    float l2 = x[4] * x[4];
+    for (int col = 0; col < 3; col++) {
+        float n0 = sl_dual_deflect_norm(d, x[2], sqrtf(l2 + sf[col] * sf[col]));
+        MG[col] *= n0 / sl_dual_deflect_norm(d, x[2], sqrtf(l2 + sg[col] * sg[col]));
+        ML[col] *= n0 / sl_dual_deflect_norm(d, x[2], sqrtf(l2 + sl[col] * sl[col]));
+        MGi[col] *= n0 / sl_dual_deflect_norm(d, x[2], sqrtf(l2 + si[col] * si[col]));
+    }
+}
+
 /* Adds b's rows (SRBF x transmittance x lobe power, plus multiple scattering) into p->out. */
 static void accumulate(const shade_common *sc, rowbuf *b) {
     const sl_shade_ctx *c = sc->c;
@@ -236,6 +280,8 @@ static void accumulate(const shade_common *sc, rowbuf *b) {
     }
     sl_ftex_corners cn; /* where point i reads the lobes' T_f textures: rows of a point are */
     size_t cn_pt = (size_t)-1; /* consecutive, so once per point */
+    float dev2[3];             /* the fibers' spread around point dev2_pt (with deflect) */
+    size_t dev2_pt = (size_t)-1;
     for (size_t k = 0; k < b->nr; k++) {
         size_t i = b->rpt[k];
         int j = b->rlobe[k];
@@ -244,25 +290,30 @@ static void accumulate(const shade_common *sc, rowbuf *b) {
         float *out = p->out + SL_SHADE_FLOATS * i;
         float ms[3] = {0, 0, 0};
         if (c->ms_on) {
-            float Tf[3], sf[3];
+            float Tf[3], sf[3], f[3] = {1.0f, 1.0f, 1.0f};
             if (cn_pt != i) sl_ftex_at(c->ftex, p->pos + 3 * i, &cn), cn_pt = i;
             sl_ftex_lookup_at(c->ftex, j, &cn, Tf, sf);
             const float *x = b->in + 5 * k;
             const float *sa = sc->ssig && c->msn ? sc->ssig + 3 * (size_t)p->strand[i] : NULL;
-            float MG[3], ML[3];
-            if (sa && (sa[0] != sc->msig[0] || sa[1] != sc->msig[1] || sa[2] != sc->msig[2]))
-                sl_volume_ms_nodes_terms(c->msn, sa, x[0], x[1], x[2], x[3], x[4], sf, MG, ML);
-            else
-                sl_volume_ms_terms(c->vms, x[0], x[1], x[2], x[3], x[4], sf, MG, ML);
+            if (!(sa && (sa[0] != sc->msig[0] || sa[1] != sc->msig[1] || sa[2] != sc->msig[2])))
+                sa = NULL; /* the material's own sigma_a: its table */
+            float MG[3], ML[3], MGi[3];
+            if (c->deflect) {
+                if (dev2_pt != i) sl_ftex_dev2_at(c->ftex, &cn, dev2), dev2_pt = i;
+                ms_spread_terms(c, sa, x, &cn, j, sf, dev2, MG, MGi, ML);
+            } else {
+                ms_terms(c, sa, x, sf, MG, ML);
+                memcpy(MGi, MG, sizeof MG);
+            }
             if (c->stack && p->B) {
                 float nb = p->B[(size_t)j * p->n + i];
                 double nf = T > 1e-30f ? -log((double)T) : 69.0;
                 for (int col = 0; col < 3; col++) {
                     ML[col] *= (float)sl_dual_stack_local_factor(&c->stack[col], nb);
-                    Tf[col] *= (float)sl_dual_stack_incident_factor(&c->stack[col], nf, nb);
+                    f[col] = (float)sl_dual_stack_incident_factor(&c->stack[col], nf, nb);
                 }
             }
-            sl_volume_ms_combine(x[4], Tf, T, MG, ML, ms);
+            sl_volume_ms_combine_split(x[4], Tf, f, T, MG, MGi, ML, ms);
         }
         const float *o = b->res + 9 * k; /* R rgb, TT rgb, TRT rgb */
         for (int col = 0; col < 3; col++) {

@@ -11,6 +11,7 @@
 #include "passes/shade/shade_points.h"
 #include "passes/shade/srbf_ren.h"
 #include "passes/shade/srbf_tables.h"
+#include "passes/volume/dual_deflect.h"
 #include "passes/volume/volume.h"
 #include "passes/volume/volume_ms.h"
 #include "passes/volume/volume_ms_nodes.h"
@@ -40,6 +41,11 @@ typedef struct sl_shade_ctx {
      * backscattering is weighted by the hair behind each point (sl_shade_points.B); NULL: Zinke's
      * A_b as tabulated (a semi-infinite medium behind every point) */
     const sl_dual_stack *stack;
+    /* with ms_on: the material's azimuthal deflections (sl_dual_deflect): the light arriving is
+     * spread by the tilt of the fibers it crossed (the march's tilt2), the local term by the
+     * fibers' spread around the point, the stacks' interreflected light by its backscattering
+     * (docs/volume.md "Where the scattered light goes"); NULL: Zinke's spread sigma_f alone */
+    const sl_dual_deflect *deflect;
 } sl_shade_ctx;
 
 /* Where and how the rows are evaluated (the planner fills it from the renderer). */

@@ -13,7 +13,7 @@
 int slcl_march(sl_cl *cl, const float *vox, const int n[3], const float lo[3], float h,
                const float *tabs, const float *verts, const uint32_t *vert_ids, size_t nverts,
                const float *dirs, size_t nlobes, int paths, uint32_t seed, float *outT, float *outS,
-               double *kernel_s, sl_err *e) {
+               float *outG, double *kernel_s, sl_err *e) {
     size_t nvox = (size_t)n[0] * n[1] * n[2], nout = nverts * nlobes;
     if (kernel_s) *kernel_s = 0;
     if (nout == 0) return 0;
@@ -27,7 +27,7 @@ int slcl_march(sl_cl *cl, const float *vox, const int n[3], const float lo[3], f
         nvox * SL_VOX_FIELDS * sizeof(float), SL_MARCH_CH * SL_DUAL_TABLE_FLOATS * sizeof(float),
         nverts * 3 * sizeof(float), nlobes * 3 * sizeof(float), nverts * sizeof(uint32_t)};
     const void *src[5] = {vox, tabs, verts, dirs, vert_ids};
-    cl_mem in[5] = {0}, bT = NULL, bS = NULL;
+    cl_mem in[5] = {0}, bT = NULL, bS = NULL, bG = NULL;
     cl_int err = 0;
     rc = -1;
     for (int i = 0; i < 5 && !err; i++)
@@ -37,6 +37,8 @@ int slcl_march(sl_cl *cl, const float *vox, const int n[3], const float lo[3], f
         bT = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, nout * SL_MARCH_CH * sizeof(float), NULL, &err);
     if (!err)
         bS = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, nout * SL_MARCH_CH * sizeof(float), NULL, &err);
+    if (!err)
+        bG = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, nout * SL_MARCH_CH * sizeof(float), NULL, &err);
     if (sl_cl_check(err, "march: clCreateBuffer", e)) goto done;
     cl_int nx = n[0], ny = n[1], nz = n[2], cp = paths;
     cl_uint nv = (cl_uint)nverts, nl = (cl_uint)nlobes, sd = seed;
@@ -59,6 +61,7 @@ int slcl_march(sl_cl *cl, const float *vox, const int n[3], const float lo[3], f
     SL_CL_ARG(&a, 15, in[4]);
     SL_CL_ARG(&a, 16, bT);
     SL_CL_ARG(&a, 17, bS);
+    SL_CL_ARG(&a, 18, bG);
     if (sl_cl_args_end(&a)) goto done;
     size_t local = LOCAL, global = (nout + LOCAL - 1) / LOCAL * LOCAL;
     sl_cl_timer t;
@@ -74,6 +77,9 @@ int slcl_march(sl_cl *cl, const float *vox, const int n[3], const float lo[3], f
                     "march: read", e) ||
         sl_cl_check(clEnqueueReadBuffer(q, bS, CL_TRUE, 0, nout * SL_MARCH_CH * sizeof(float), outS,
                                         0, NULL, NULL),
+                    "march: read", e) ||
+        sl_cl_check(clEnqueueReadBuffer(q, bG, CL_TRUE, 0, nout * SL_MARCH_CH * sizeof(float), outG,
+                                        0, NULL, NULL),
                     "march: read", e))
         goto done;
     rc = 0;
@@ -82,5 +88,6 @@ done:
         if (in[i]) clReleaseMemObject(in[i]);
     if (bT) clReleaseMemObject(bT);
     if (bS) clReleaseMemObject(bS);
+    if (bG) clReleaseMemObject(bG);
     return rc;
 }

@@ -11,6 +11,6 @@
 int slcl_march(sl_cl *cl, const float *vox, const int n[3], const float lo[3], float h,
                const float *tabs, const float *verts, const uint32_t *vert_ids, size_t nverts,
                const float *dirs, size_t nlobes, int paths, uint32_t seed, float *outT, float *outS,
-               double *kernel_s, sl_err *e);
+               float *outG, double *kernel_s, sl_err *e);
 
 #endif

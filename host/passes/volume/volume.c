@@ -159,6 +159,35 @@ static size_t active_vertices(const sl_voxel_grid *g, int c, const int m[3], uin
     return n;
 }
 
+/* The fibers' spread around their mean direction near each coarse vertex (m vertices every c
+ * voxels): the length-weighted mean of dev^2 over the c x c x c voxels centred on the vertex, 0
+ * where they hold no hair; SL_MARCH_CH equal floats per vertex (so sl_ftex_sample_at reads it). */
+static void vertex_dev2(const sl_voxel_grid *g, int c, const int m[3], float *out) {
+    int lo = -(c / 2), hi = lo + c;
+    for (int k = 0; k < m[2]; k++)
+        for (int j = 0; j < m[1]; j++)
+            for (int i = 0; i < m[0]; i++) {
+                double sw = 0.0, sd = 0.0;
+                for (int dz = lo; dz < hi; dz++)
+                    for (int dy = lo; dy < hi; dy++)
+                        for (int dx = lo; dx < hi; dx++) {
+                            int x = i * c + dx, y = j * c + dy, z = k * c + dz;
+                            if (x < 0 || y < 0 || z < 0 || x >= g->n[0] || y >= g->n[1] ||
+                                z >= g->n[2])
+                                continue;
+                            const float *v =
+                                g->vox + (((size_t)z * g->n[1] + y) * g->n[0] + x) * SL_VOX_FIELDS;
+                            double w = v[SL_VOX_DENSITY];
+                            sw += w;
+                            sd += w * (double)v[SL_VOX_DEV] * v[SL_VOX_DEV];
+                        }
+                float d2 = sw > 0.0 ? (float)(sd / sw) : 0.0f;
+                float *o = out + (((size_t)k * m[1] + j) * m[0] + i) * SL_MARCH_CH;
+                for (int q = 0; q < SL_MARCH_CH; q++)
+                    o[q] = d2;
+            }
+}
+
 int sl_march_build(sl_device *dev, const sl_voxel_grid *g, const sl_dual_tables *dt, int nlobes,
                    const double *dirs, const sl_march_opts *o, sl_ftex *f, sl_err *e) {
     memset(f, 0, sizeof *f);
@@ -172,6 +201,9 @@ int sl_march_build(sl_device *dev, const sl_voxel_grid *g, const sl_dual_tables 
     size_t nvert = (size_t)f->m[0] * f->m[1] * f->m[2];
     f->T = sl_malloc((nlobes ? nlobes : 1) * nvert * SL_MARCH_CH * sizeof *f->T);
     f->sigma = sl_calloc((nlobes ? nlobes : 1) * nvert * SL_MARCH_CH, sizeof *f->sigma);
+    f->tilt2 = sl_calloc((nlobes ? nlobes : 1) * nvert * SL_MARCH_CH, sizeof *f->tilt2);
+    f->dev2 = sl_calloc(nvert * SL_MARCH_CH, sizeof *f->dev2);
+    vertex_dev2(g, c, f->m, f->dev2);
     for (size_t i = 0; i < (size_t)nlobes * nvert * SL_MARCH_CH; i++)
         f->T[i] = 1.0f;
     uint32_t *ids;
@@ -195,11 +227,12 @@ int sl_march_build(sl_device *dev, const sl_voxel_grid *g, const sl_dual_tables 
     size_t nout = na * (size_t)nlobes;
     float *oT = sl_malloc((nout ? nout : 1) * SL_MARCH_CH * sizeof *oT);
     float *oS = sl_malloc((nout ? nout : 1) * SL_MARCH_CH * sizeof *oS);
+    float *oG = sl_malloc((nout ? nout : 1) * SL_MARCH_CH * sizeof *oG);
     const float *tabs = &dt->tab[0][0];
     int rc = -1, done = 0;
     if (dev && dev->is_opencl) {
         rc = slcl_march(dev->cl, g->vox, g->n, g->lo, g->h, tabs, verts, ids, na, fd,
-                        (size_t)nlobes, paths, o->seed, oT, oS, &f->seconds, e);
+                        (size_t)nlobes, paths, o->seed, oT, oS, oG, &f->seconds, e);
         if (rc == 0)
             done = 1;
         else if (!sl_device_try_fallback(dev, rc, e))
@@ -213,7 +246,7 @@ int sl_march_build(sl_device *dev, const sl_voxel_grid *g, const sl_dual_tables 
             if ((size_t)nt > nout / 64 + 1) nt = (int)(nout / 64 + 1); /* small jobs: fewer */
         }
         slc_march_threads(g->vox, g->n, g->lo, g->h, tabs, verts, ids, na, fd, (size_t)nlobes,
-                          paths, o->seed, oT, oS, nt);
+                          paths, o->seed, oT, oS, oG, nt);
         f->seconds = sl_now() - t0;
     }
     for (int l = 0; l < nlobes; l++)
@@ -222,6 +255,7 @@ int sl_march_build(sl_device *dev, const sl_voxel_grid *g, const sl_dual_tables 
             size_t dst = ((size_t)l * nvert + ids[v]) * SL_MARCH_CH;
             memcpy(f->T + dst, oT + src, SL_MARCH_CH * sizeof *oT);
             memcpy(f->sigma + dst, oS + src, SL_MARCH_CH * sizeof *oS);
+            memcpy(f->tilt2 + dst, oG + src, SL_MARCH_CH * sizeof *oG);
         }
     /* the logs sl_ftex_lookup would take of the 8 corners of every lookup, once per texel */
     f->logT = sl_malloc((nlobes ? nlobes : 1) * nvert * SL_MARCH_CH * sizeof *f->logT);
@@ -234,6 +268,7 @@ out:
     free(fd);
     free(oT);
     free(oS);
+    free(oG);
     if (rc) sl_ftex_free(f);
     return rc;
 }
@@ -253,6 +288,15 @@ void sl_ftex_lookup_at(const sl_ftex *f, int lobe, const sl_ftex_corners *cn, fl
     sl_ftex_sample_at(f->sigma + (size_t)lobe * nvert * SL_MARCH_CH, cn, 0, sigma);
 }
 
+void sl_ftex_tilt_at(const sl_ftex *f, int lobe, const sl_ftex_corners *cn, float tilt2[3]) {
+    size_t nvert = (size_t)f->m[0] * f->m[1] * f->m[2];
+    sl_ftex_sample_at(f->tilt2 + (size_t)lobe * nvert * SL_MARCH_CH, cn, 0, tilt2);
+}
+
+void sl_ftex_dev2_at(const sl_ftex *f, const sl_ftex_corners *cn, float dev2[3]) {
+    sl_ftex_sample_at(f->dev2, cn, 0, dev2);
+}
+
 void sl_ftex_lookup(const sl_ftex *f, int lobe, const double p[3], float T[3], float sigma[3]) {
     sl_ftex_corners cn;
     sl_ftex_at(f, p, &cn);
@@ -263,5 +307,7 @@ void sl_ftex_free(sl_ftex *f) {
     free(f->T);
     free(f->sigma);
     free(f->logT);
-    f->T = f->sigma = f->logT = NULL;
+    free(f->tilt2);
+    free(f->dev2);
+    f->T = f->sigma = f->logT = f->tilt2 = f->dev2 = NULL;
 }

@@ -6,7 +6,7 @@
  *
  *   sl_voxel_grid g;
  *   if (sl_voxelize(&dev, &hair, scene->voxels, &g, &e)) ...;
- *   sl_dual_tables dt; sl_dual_tables_build(&material, &dt, &e);            (host/passes/volume/dual.h)
+ *   sl_dual_tables dt; sl_dual_tables_build(&material, &dt, &e); (host/passes/volume/dual.h)
  *   sl_march_opts mo; sl_march_opts_default(&mo);
  *   sl_ftex f;
  *   if (sl_march_build(&dev, &g, &dt, nlobes, dirs, &mo, &f, &e)) ...;      (dirs: 3 per lobe)
@@ -14,7 +14,8 @@
  *   sl_ftex_lookup(&f, lobe, p, Tf, sf);                 (trilinear; per colour channel)
  *   sl_ftex_free(&f); sl_voxel_grid_free(&g);
  *
- * The multiple-scattering response per fragment and lobe (Xu Eq. 27-31) is in host/passes/volume/volume_ms.h. */
+ * The multiple-scattering response per fragment and lobe (Xu Eq. 27-31) is in
+ * host/passes/volume/volume_ms.h. */
 #ifndef SL_VOLUME_H
 #define SL_VOLUME_H
 
@@ -69,6 +70,8 @@ typedef struct sl_ftex {
     int nlobes;
     size_t active;    /* vertices marched (per lobe) */
     float *T, *sigma; /* nlobes * m[0] m[1] m[2] * SL_MARCH_CH each */
+    float *tilt2;     /* the same: the fibers' tilt the light crossed (kernels/march.h) */
+    float *dev2;      /* m[0] m[1] m[2] * SL_MARCH_CH (equal): the fibers' dev^2 near the vertex */
     float *logT;      /* ln(max(T, 1e-30)) per texel (sl_ftex_lookup's log-space T_f), or NULL */
     double seconds;   /* C time or device time of the march */
 } sl_ftex;
@@ -84,6 +87,10 @@ void sl_ftex_lookup(const sl_ftex *f, int lobe, const double p[3], float T[3], f
 void sl_ftex_at(const sl_ftex *f, const double p[3], sl_ftex_corners *cn);
 void sl_ftex_lookup_at(const sl_ftex *f, int lobe, const sl_ftex_corners *cn, float T[3],
                        float sigma[3]);
+/* At the same corners: lobe's tilt2 (per channel), and the fibers' spread dev^2 around the point
+ * (lobe-independent; three equal values), both trilinear. */
+void sl_ftex_tilt_at(const sl_ftex *f, int lobe, const sl_ftex_corners *cn, float tilt2[3]);
+void sl_ftex_dev2_at(const sl_ftex *f, const sl_ftex_corners *cn, float dev2[3]);
 void sl_ftex_free(sl_ftex *f);
 
 #endif

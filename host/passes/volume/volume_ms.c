@@ -127,6 +127,19 @@ void sl_volume_ms_terms(const sl_volume_ms *ms, float theta_o, float phi_o, floa
     }
 }
 
+void sl_volume_ms_terms_spread(const sl_volume_ms *ms, float theta_o, float phi_o, float theta_j,
+                               float phi_j, float lambda, const float sg[3], const float si[3],
+                               const float sl[3], float MG[3], float MGi[3], float ML[3]) {
+    for (int c = 0; c < 3; c++) {
+        if (c > 0 && ms->dt.nch == 1 && sg[c] == sg[0] && si[c] == si[0] && sl[c] == sl[0]) {
+            MG[c] = MG[0], MGi[c] = MGi[0], ML[c] = ML[0];
+            continue;
+        }
+        sl_ms_table_spread(&ms->fp[c], ms->mt + (size_t)c * SL_MST_FLOATS, theta_o, phi_o, theta_j,
+                           phi_j, lambda, sg[c], si[c], sl[c], &MG[c], &MGi[c], &ML[c]);
+    }
+}
+
 void sl_volume_ms_terms_exact(const sl_volume_ms *ms, float theta_o, float phi_o, float theta_j,
                               float phi_j, float lambda, const float sigma_f[3], float MG[3],
                               float ML[3]) {
@@ -155,6 +168,20 @@ void sl_volume_ms_combine(float lambda, const float Tf[3], float Tj, const float
     for (int c = 0; c < 3; c++) {
         float g = Tf[c] - Tj > 0.0f ? Tf[c] - Tj : 0.0f;
         float v = (float)P * (g * MG[c] + SL_DUAL_DB * Tf[c] * ML[c]);
+        out[c] = isfinite(v) && v > 0.0f ? v : 0.0f;
+    }
+}
+
+void sl_volume_ms_combine_split(float lambda, const float Tf[3], const float f[3], float Tj,
+                                const float MG[3], const float MGi[3], const float ML[3],
+                                float out[3]) {
+    double l2 = (double)lambda * lambda, P = 3.14159265358979 * l2 * (1 - exp(-4 / l2));
+    for (int c = 0; c < 3; c++) {
+        float a = Tf[c] * f[c];
+        float g = a - Tj > 0.0f ? a - Tj : 0.0f;
+        float gi = Tf[c] * (f[c] - 1.0f);
+        gi = gi > 0.0f ? (gi < g ? gi : g) : 0.0f;
+        float v = (float)P * ((g - gi) * MG[c] + gi * MGi[c] + SL_DUAL_DB * a * ML[c]);
         out[c] = isfinite(v) && v > 0.0f ? v : 0.0f;
     }
 }

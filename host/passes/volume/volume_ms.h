@@ -1,14 +1,14 @@
 /* volume_ms.h: the multiple-scattering response per fragment and SRBF lobe (Xu 2011 Eq. 27-31
- * with the dual-scattering tables of host/passes/volume/dual.h and T_f, sigma_f of the volume march,
- * host/passes/volume/volume.h). The math is kernels/ms_response.h (also OpenCL C); the renderer reads it from a
- * per-material table (kernels/ms_table.h, built by sl_volume_ms_init); definitions, the table and
- * the combination with single scattering: docs/volume.md.
+ * with the dual-scattering tables of host/passes/volume/dual.h and T_f, sigma_f of the volume
+ * march, host/passes/volume/volume.h). The math is kernels/ms_response.h (also OpenCL C); the
+ * renderer reads it from a per-material table (kernels/ms_table.h, built by sl_volume_ms_init);
+ * definitions, the table and the combination with single scattering: docs/volume.md.
  *
  *   sl_volume_ms ms;
  *   if (sl_volume_ms_init(&material, &ms, &e)) ...;      (per material edit; sl_volume_ms_free)
  *   for each fragment (fiber frame: theta_o, phi_o) and lobe j (theta_j, phi_j, lambda_j, rgb_j):
  *       float Tf[3], sf[3], r[3];
- *       sl_ftex_lookup(&ftex, j, p, Tf, sf);                             (host/passes/volume/volume.h)
+ *       sl_ftex_lookup(&ftex, j, p, Tf, sf); (host/passes/volume/volume.h)
  *       sl_volume_ms_response(&ms, theta_o, phi_o, theta_j, phi_j, lambda_j, Tf, sf, Tj, r);
  *       L[c] += rgb_j[c] * r[c];        (Tj: the single-scattering transmittance toward j)
  */
@@ -42,6 +42,11 @@ void sl_volume_ms_free(sl_volume_ms *ms);
 void sl_volume_ms_terms(const sl_volume_ms *ms, float theta_o, float phi_o, float theta_j,
                         float phi_j, float lambda, const float sigma_f[3], float MG[3],
                         float ML[3]);
+/* The same row at three spreads per channel: M^G at sg and at si, M^L at sl (each as
+ * sl_volume_ms_terms at that spread; the row's table cells found once). */
+void sl_volume_ms_terms_spread(const sl_volume_ms *ms, float theta_o, float phi_o, float theta_j,
+                               float phi_j, float lambda, const float sg[3], const float si[3],
+                               const float sl[3], float MG[3], float MGi[3], float ML[3]);
 
 /* The same two parts by the direct evaluation (kernels/ms_response.h, no response table): the
  * reference of the table, ~4x slower. */
@@ -60,5 +65,14 @@ void sl_volume_ms_response(const sl_volume_ms *ms, float theta_o, float phi_o, f
  * volume_ms_nodes.h). */
 void sl_volume_ms_combine(float lambda, const float Tf[3], float Tj, const float MG[3],
                           const float ML[3], float out[3]);
+/* sl_volume_ms_combine with the light arriving split in two (docs/volume.md, "Where the scattered
+ * light goes"): of the light that scattered on the way, max(Tf f - Tj, 0), the part the stacks
+ * around the point add by interreflection, Tf (f - 1) (clamped to [0, that]), is spread by its
+ * backscattering and shaded with MGi, the rest with MG; the local term takes all of Tf f. Tf: the
+ * march's T_f, f: the stack's incident factor (1 without one). MGi = MG and f = 1 give
+ * sl_volume_ms_combine exactly. */
+void sl_volume_ms_combine_split(float lambda, const float Tf[3], const float f[3], float Tj,
+                                const float MG[3], const float MGi[3], const float ML[3],
+                                float out[3]);
 
 #endif

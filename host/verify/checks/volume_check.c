@@ -120,17 +120,18 @@ int slchk_march(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result
     size_t nout = nvert * 4 * SL_MARCH_CH;
     float *aT = sl_malloc(nout * sizeof *aT), *aS = sl_malloc(nout * sizeof *aS);
     float *bT = sl_malloc(nout * sizeof *bT), *bS = sl_malloc(nout * sizeof *bS);
+    float *aG = sl_malloc(nout * sizeof *aG), *bG = sl_malloc(nout * sizeof *bG);
     snprintf(r->problem, sizeof r->problem, "%zu vertices x 4 lobes x %d paths", nvert, mo.paths);
     int rc = 0;
     r->c_s = r->cl_s = r->cl_wall_s = INFINITY;
     for (int rep = 0; rep < o->reps && !rc; rep++) {
         double t0 = sl_now();
         slc_march(g.vox, g.n, g.lo, g.h, &dt.tab[0][0], verts, ids, nvert, fd, 4, mo.paths, mo.seed,
-                  bT, bS);
+                  bT, bS, bG);
         double tc = sl_now() - t0, tk;
         t0 = sl_now();
         rc = slcl_march(cl, g.vox, g.n, g.lo, g.h, &dt.tab[0][0], verts, ids, nvert, fd, 4,
-                        mo.paths, mo.seed, aT, aS, &tk, e);
+                        mo.paths, mo.seed, aT, aS, aG, &tk, e);
         double tw = sl_now() - t0;
         best_times(r, tc, tk, tw);
     }
@@ -139,13 +140,15 @@ int slchk_march(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result
         /* Same random numbers and float steps; exp/log/asin of the device within a few ulp. An
          * event decision flipped by such an ulp changes one path of 16 (up to ~0.05): the check
          * allows 1e-4 absolute, so a flip shows up as a FAIL to look at. */
-        float *ka = sl_malloc(2 * nout * sizeof *ka), *kb = sl_malloc(2 * nout * sizeof *kb);
+        float *ka = sl_malloc(3 * nout * sizeof *ka), *kb = sl_malloc(3 * nout * sizeof *kb);
         memcpy(ka, aT, nout * sizeof *ka);
         memcpy(ka + nout, aS, nout * sizeof *ka);
+        memcpy(ka + 2 * nout, aG, nout * sizeof *ka);
         memcpy(kb, bT, nout * sizeof *kb);
         memcpy(kb + nout, bS, nout * sizeof *kb);
+        memcpy(kb + 2 * nout, bG, nout * sizeof *kb);
         compare_within(r, 1e-4, 1e-4, "same random streams; ulp-level exp/asin: 1e-4", ka, kb,
-                       2 * nout);
+                       3 * nout);
         free(ka);
         free(kb);
     }
@@ -155,6 +158,8 @@ int slchk_march(sl_cl *cl, const sl_kernel_check_opts *o, sl_kernel_check_result
     free(aS);
     free(bT);
     free(bS);
+    free(aG);
+    free(bG);
     sl_voxel_grid_free(&g);
     sl_hair_free(&h);
     return rc;

@@ -1,0 +1,49 @@
+# test_ms_direction.sh: the frame's multiple scattering under one small sun against the path
+# tracer's, at two elevations (issue 19; docs/volume.md "Where the scattered light goes"). The
+# default scene's hair (procedural wavy, 4000 strands, radius 0.04), white chiang (sigma_a 0: all
+# light that is not single scattering is multiple scattering), 80 x 60, C path; path tracer 32 spp
+# x 2 seeds. The truth's multiple scattering changes 2.6x between the sun across the hanging
+# fibers (0 deg) and 48 deg above them; the fast frame that kept the light on the lobe's cone
+# changed 7x and more (docs/results.md: ours / path 2.11 and 0.29 at 160 x 120). Checked: mean
+# MS ours / path tracer within [0.75, 1.35] at both elevations (measured at this size: see the
+# PASS line's figures with SL_TEST_VERBOSE=1), and their ratio (how much the direction moves the
+# MS) within a factor 1.35 of the path tracer's.
+. test/cli/lib.sh
+D="$TMP/ms_direction"
+rm -rf "$D"; mkdir -p "$D"
+PY=python3; [ -x /usr/bin/python3 ] && PY=/usr/bin/python3
+ratio() { # ratio OURS.exr REF1.exr REF2.exr: mean MS ours / path tracer (grey: channel R)
+    "$SL" compare "$1" "$2" "$3" --csv --layer MS 2>/dev/null | awk -F, '$1 == "ratio" {print $2}'
+}
+declare -A R
+for EL in 0 48; do
+    "$PY" scripts/sun_map.py "$D/sun$EL.hdr" "$EL"
+    cat > "$D/s$EL.json" <<JSON
+{"hair": {"procedural": {"style": "wavy", "strands": 4000, "points": 16, "seed": 1}, "radius": 0.04},
+ "material": {"model": "chiang", "sigma_a": [0, 0, 0], "roughness": 0.3, "radial_roughness": 0.3},
+ "environment": {"file": "sun$EL.hdr"}, "camera": {"fov_deg": 30},
+ "image": {"width": 80, "height": 60},
+ "quality": {"lobes": 4, "multiple_scattering": "on"}}
+JSON
+    "$SL" --quiet render "$D/s$EL.json" --device c --aov MS -o "$D/f$EL.exr" 2>/dev/null
+    for S in 1 2; do
+        "$SL" --quiet reference "$D/s$EL.json" --path --spp 32 --seed $S --threads 2 \
+            -o "$D/p$EL-$S.exr" 2>/dev/null
+    done
+    R[$EL]=$(ratio "$D/f$EL.exr" "$D/p$EL-1.exr" "$D/p$EL-2.exr")
+done
+if [ -n "${SL_TEST_VERBOSE:-}" ]; then echo "  MS ours / path tracer: 0 deg ${R[0]}, 48 deg ${R[48]}"; fi
+for EL in 0 48; do
+    n="ms_direction_sun_${EL}deg"
+    if [ -n "${R[$EL]}" ] && awk -v r="${R[$EL]}" 'BEGIN {exit !(r >= 0.75 && r <= 1.35)}'; then
+        pass "$n"
+    else
+        fail "$n" "multiple scattering ours / path tracer '${R[$EL]}', want within [0.75, 1.35]"
+    fi
+done
+if [ -n "${R[0]}" ] && [ -n "${R[48]}" ] &&
+    awk -v a="${R[0]}" -v b="${R[48]}" 'BEGIN {q = a / b; exit !(q >= 1 / 1.35 && q <= 1.35)}'; then
+    pass ms_direction_follows_the_light
+else
+    fail ms_direction_follows_the_light "ours / path tracer at 0 and 48 deg: '${R[0]}' and '${R[48]}': the direction moves our MS by more than 1.35x the truth's"
+fi
