@@ -290,13 +290,12 @@ typedef struct sl_srbf_deon_lobe {
  * tho): cos tho, sin tho and the ti-independent constant cv of log M_p; the renderer's rows of one
  * point share it (kernels/srbf_chiang.h builds it once per point). */
 typedef struct sl_srbf_deon_lobe_pre {
-    float v, tho, cto, sto, cv;
+    float v, cto, sto, cv;
     float sho, cho; /* sin, cos of tho / 2 (the half-angle forms of M_p's numerator) */
 } sl_srbf_deon_lobe_pre;
 
 SL_INLINE void sl_srbf_deon_lobe_pre_init(float v, float tho, sl_srbf_deon_lobe_pre *P) {
     P->v = v;
-    P->tho = tho;
     P->cto = cos(tho);
     P->sto = sin(tho);
     P->sho = sin(0.5f * tho);

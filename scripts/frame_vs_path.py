@@ -9,7 +9,8 @@ the given size) is rendered once into REFDIR and reused (it does not depend on t
 then the fast frame (`render --aov MS`, the scene's quality updated with --quality) is rendered
 and compared (`strandlight compare --block 4`, corrected for the reference's noise): mean colour
 ours / path tracer per channel and the 4x4-block relative RMSE, of the beauty and of multiple
-scattering (ours' `MS` layer against the path tracer's indirect light). Relative paths in the
+scattering (ours' `MS` layer against the path tracer's indirect light); with --single also single
+scattering (ours with multiple scattering off against the path tracer's direct light). Relative paths in the
 scene are resolved against the scene's folder; its `output` is dropped. Used for the tables in
 docs/results.md ("Multiple scattering: where the light goes after the first event").
 """
@@ -30,10 +31,12 @@ def resolve(scene, base):
     return scene
 
 
-def compare(sl, ours, refs, layer):
+def compare(sl, ours, refs, layer, ref_layer=None):
     cmd = [sl, "compare", ours] + refs + ["--block", "4", "--csv"]
     if layer:
         cmd += ["--layer", layer]
+    if ref_layer:
+        cmd += ["--ref-layer", ref_layer]
     out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
     ratio, blocks = None, None
     for line in out.splitlines():
@@ -55,6 +58,9 @@ def main():
     ap.add_argument("--quality", default="{}", help="JSON object merged into the fast frame's quality")
     ap.add_argument("--material", default="{}", help="JSON object merged into the material (both)")
     ap.add_argument("--device", default="c")
+    ap.add_argument("--single", action="store_true",
+                    help="also single scattering alone (ours with multiple scattering off) against "
+                         "the path tracer's direct light")
     a = ap.parse_args()
     sl = os.path.abspath(os.path.join(a.build, "strandlight"))
     w, h = (int(x) for x in a.size.split("x"))
@@ -91,8 +97,17 @@ def main():
                        check=True)
         rb, bb = compare(sl, ours, refs, None)
         rm, bm = compare(sl, ours, refs, "MS")
-        print(f"{name:28s} beauty {rb[0]:.3f} {rb[1]:.3f} {rb[2]:.3f} (4x4 {bb:.3f})   "
-              f"MS {rm[0]:.3f} {rm[1]:.3f} {rm[2]:.3f} (4x4 {bm:.3f})", flush=True)
+        line = (f"{name:28s} beauty {rb[0]:.3f} {rb[1]:.3f} {rb[2]:.3f} (4x4 {bb:.3f})   "
+                f"MS {rm[0]:.3f} {rm[1]:.3f} {rm[2]:.3f} (4x4 {bm:.3f})")
+        if a.single:
+            scene["quality"]["multiple_scattering"] = "off"
+            with open(fast, "w") as f:
+                json.dump(scene, f)
+            subprocess.run([sl, "--quiet", "render", fast, "--device", a.device, "-o", ours],
+                           check=True)
+            rs, bs = compare(sl, ours, refs, None, "direct")
+            line += f"   S {rs[0]:.3f} {rs[1]:.3f} {rs[2]:.3f} (4x4 {bs:.3f})"
+        print(line, flush=True)
 
 
 if __name__ == "__main__":

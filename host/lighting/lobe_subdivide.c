@@ -16,6 +16,13 @@ void sl_subdiv_params_default(sl_subdiv_params *p) {
     p->width = SL_SUBDIV_WIDTH;
 }
 
+int sl_subdiv_budget(int narrow, double width) {
+    sl_subdiv_params p;
+    sl_subdiv_params_default(&p);
+    p.width = width;
+    return narrow + sl_subdiv_set_size(&p);
+}
+
 int sl_subdiv_set_size(const sl_subdiv_params *p) {
     if (!(p->width > 0)) return SL_SUBDIV_MAX;
     double m = ceil(4.0 * M_PI * (p->ratio / p->width) * (p->ratio / p->width));

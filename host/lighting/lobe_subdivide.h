@@ -64,6 +64,10 @@ void sl_subdiv_params_default(sl_subdiv_params *p);
 /* The set size of p's width, ceil(4 pi (ratio / width)^2), at most SL_SUBDIV_MAX: the sub-lobes
  * of a broad light over the whole sphere. */
 int sl_subdiv_set_size(const sl_subdiv_params *p);
+/* The renderer's budget of lobes after subdivision: narrow lobes (kept whole) plus the sub-lobes
+ * of width (quality.sublobe_width) over the whole sphere. host/plan/plan_lobes.c subdivides within
+ * it and sl_frame_estimate (host/plan/frame.c) sizes the frame's maps by it, so the two agree. */
+int sl_subdiv_budget(int narrow, double width);
 
 /* The renderer's use: the lobes in[idx[0..n-1]] into out (allocated; free with sl_lobes_free):
  * the lobes kept whole first, in input order (bit for bit), then the sub-lobes of the broad

@@ -264,12 +264,7 @@ void sl_frame_estimate(const sl_scene *s, int shadow_size_opt, sl_frame_need *n)
      * subdivided at most the lobes plus the sub-lobes of the scene's quality.sublobe_width (the
      * budget of plan_lobes.c); the frame shades as many lobes at most, each a T per point */
     int nmaps = SL_SHADOW_SPLIT_MAPS_PER_LOBE * nl;
-    if (s->broad_lobes == SL_BROAD_SUBDIVIDE) {
-        sl_subdiv_params sp;
-        sl_subdiv_params_default(&sp);
-        if (s->sublobe_width > 0) sp.width = s->sublobe_width;
-        nmaps = nl + sl_subdiv_set_size(&sp);
-    }
+    if (s->broad_lobes == SL_BROAD_SUBDIVIDE) nmaps = sl_subdiv_budget(nl, s->sublobe_width);
     int nshade = s->broad_lobes == SL_BROAD_SUBDIVIDE ? nmaps : nl;
     double points = npx * K * (24.0 + 12.0 + 4.0 + 4.0 * nshade + 4.0 * SL_SHADE_FLOATS);
     double shadow_one = (double)size * size * (4.0 + 8.0 * layers),

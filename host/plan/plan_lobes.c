@@ -112,7 +112,7 @@ int sl_pass_subdivide(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     sl_subdiv_params sp;
     sl_subdiv_params_default(&sp);
     sp.width = in->s->sublobe_width;
-    int budget = nnarrow + sl_subdiv_set_size(&sp);
+    int budget = sl_subdiv_budget(nnarrow, in->s->sublobe_width);
     double fit_l2 = 0;
     sl_lobes_subdivide(in->lobes, w->used, w->nused, budget, &sp, &w->sub, &nbroad, &nsub, &fit_l2);
     if (nbroad > 0) {
