@@ -23,10 +23,10 @@ import sys
 
 
 def resolve(scene, base):
-    for sect in ("hair", "environment"):
-        f = scene.get(sect, {}).get("file")
+    for sect, key in (("hair", "file"), ("environment", "file"), ("environment", "lobes")):
+        f = scene.get(sect, {}).get(key)
         if isinstance(f, str) and not os.path.isabs(f):
-            scene[sect]["file"] = os.path.normpath(os.path.join(base, f))
+            scene[sect][key] = os.path.normpath(os.path.join(base, f))
     scene.pop("output", None)
     return scene
 

@@ -2,6 +2,7 @@
  * frame loop. Formulas and what is (not) included: docs/reference.md. */
 #include "render_ref.h"
 
+#include "chiang_ref.h"
 #include "deon_ref.h"
 #include "dual_ref.h"
 #include "marschner_ref.h"
@@ -41,9 +42,19 @@ static void angles(const double u[3], const double v[3], const double w[3], cons
 }
 
 /* The exact fiber function f (numerics.md sec. 3) of channel ch; mode[0..2] = its R, TT, TRT
- * parts (d'Eon: orders p = 0, 1, 2; the higher orders and f_rest are only in f). */
+ * parts (d'Eon and Chiang: orders p = 0, 1, 2; the higher orders and f_rest are only in f). Each
+ * model its own (before session 12 chiang fell through to Marschner's f, ~1.8x the energy: the
+ * direct reference of a chiang scene was 1.8-1.9x the path tracer's first bounce; test
+ * reference_chiang_matches_path). */
 static double fiber_f(const sl_material *m, int ch, double ti, double pi_, double to, double po,
                       double mode[3]) {
+    if (m->model == SL_MODEL_CHIANG) {
+        double out[5];
+        slref_chiang_scatter(m, ch, ti, pi_, to, po, out);
+        for (int k = 0; k < 3; k++)
+            mode[k] = out[k];
+        return out[4];
+    }
     if (m->model == SL_MODEL_DEON) {
         double out[SL_MATERIAL_MAX_ORDERS + 3];
         slref_deon_scatter(m, ch, ti, pi_, to, po, out);

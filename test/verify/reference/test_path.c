@@ -162,9 +162,9 @@ TEST(path_white_furnace_deon) {
  * the image sums within 2.5 % and the 4 x 4-block rel. RMSE within 3 x the path image's own
  * 4 x 4 noise + 0.02: over seeds the sums differ by 0.6-1.0 % and the block error is ~1.5x the
  * noise (the reference has noise of its own). */
-TEST(path_direct_matches_reference) {
+static void direct_matches_reference(const char *tag, const char *mat) {
     char dir[1024], path[1200];
-    sl_test_fresh_dir("path_direct", dir, sizeof dir);
+    sl_test_fresh_dir(tag, dir, sizeof dir);
     if (!dir[0]) SKIP("no temporary directory");
     enum { MW = 256, MH = 128 };
     float *map = calloc(MW * MH * 3, sizeof(float));
@@ -174,9 +174,6 @@ TEST(path_direct_matches_reference) {
     CHECK(write_hdr(path, MW, MH, map) == 0);
     free(map);
     sl_scene *s = malloc(sizeof *s);
-    const char *mat =
-        "{\"model\": \"deon\", \"sigma_a\": 0.3, \"alpha_R_deg\": -3, \"beta_R_deg\": "
-        "25, \"beta_TT_deg\": 20, \"beta_TRT_deg\": 30, \"orders\": 2}";
     const char *hair = "{\"procedural\": {\"style\": \"straight\", \"strands\": 30, \"points\": "
                        "8, \"seed\": 5}, \"radius\": 0.1}";
     const char *view = "\"camera\": {\"eye\": [0, 0, -60], \"target\": [0, -2, 0], \"fov_deg\": "
@@ -211,17 +208,31 @@ TEST(path_direct_matches_reference) {
         double b4, p99;
         sl_image_error_blocks(d, rf.rgba, pf.width, pf.height, 4, &b4, &p99);
         if (getenv("SL_TEST_VERBOSE"))
-            fprintf(stderr,
-                    "direct: sums %.6g vs %.6g (ratio %.4f), 4x4 rel RMSE %.4f (noise %.4f)\n", sp,
-                    sr, sp / sr, b4, pr.noise_4x4);
-        CHECK_MSG(sr > 0 && fabs(sp / sr - 1) < 0.025, "direct sum %.6g vs reference %.6g", sp, sr);
-        CHECK_MSG(b4 < 3 * pr.noise_4x4 + 0.02, "4x4 blocks rel. RMSE %.4f, noise %.4f", b4,
-                  pr.noise_4x4);
+            fprintf(stderr, "%s: sums %.6g vs %.6g (ratio %.4f), 4x4 rel RMSE %.4f (noise %.4f)\n",
+                    tag, sp, sr, sp / sr, b4, pr.noise_4x4);
+        CHECK_MSG(sr > 0 && fabs(sp / sr - 1) < 0.025, "%s: direct sum %.6g vs reference %.6g", tag,
+                  sp, sr);
+        CHECK_MSG(b4 < 3 * pr.noise_4x4 + 0.02, "%s: 4x4 blocks rel. RMSE %.4f, noise %.4f", tag,
+                  b4, pr.noise_4x4);
         free(d);
     }
     sl_path_frame_free(&pf);
     sl_reference_frame_free(&rf);
     free(s);
+}
+
+TEST(path_direct_matches_reference) {
+    direct_matches_reference("path_direct",
+                             "{\"model\": \"deon\", \"sigma_a\": 0.3, \"alpha_R_deg\": -3, "
+                             "\"beta_R_deg\": 25, \"beta_TT_deg\": 20, \"beta_TRT_deg\": 30, "
+                             "\"orders\": 2}");
+}
+
+/* The same for chiang (the reference renderer shaded chiang with Marschner's f until session 12:
+ * its sum was 1.8-1.9x the path tracer's direct light, which this check fails at 2.5 %). */
+TEST(reference_chiang_matches_path) {
+    direct_matches_reference("path_direct_chiang",
+                             "{\"model\": \"chiang\", \"melanin\": 0.3, \"roughness\": 0.4}");
 }
 
 static const char *SMALL_VIEW =
