@@ -172,20 +172,27 @@ SL_INLINE void sl_ms_table_1(const sl_fiber_params *fp, SL_GLOBAL const float *m
 
 /* The same row at three spreads (sigma_g, sigma_i for M^G, sigma_l for M^L; docs/volume.md
  * "Where the scattered light goes"): each value equals sl_ms_table_1's at that spread, the row's
- * cells found once. */
+ * cells found once. need: SL_MST_NEED_G | _GI | _L, the values wanted (the others are 0 and cost
+ * nothing: a row whose light arrives unscattered needs no M^G). */
+#define SL_MST_NEED_G 1
+#define SL_MST_NEED_GI 2
+#define SL_MST_NEED_L 4
 SL_INLINE void sl_ms_table_spread(const sl_fiber_params *fp, SL_GLOBAL const float *mt,
                                   float theta_o, float phi_o, float theta_j, float phi_j,
                                   float lambda, float sigma_g, float sigma_i, float sigma_l,
-                                  float *MG, float *MGi, float *ML) {
+                                  int need, float *MG, float *MGi, float *ML) {
     float l2 = lambda * lambda;
     float sg2 = l2 + sigma_g * sigma_g, si2 = l2 + sigma_i * sigma_i, sl2 = l2 + sigma_l * sigma_l;
     sl_mst_row r;
     sl_mst_row_init(theta_o, phi_o, theta_j, phi_j, &r);
     *MG = *MGi = *ML = 0.0f;
     if (!(r.ctj > 1e-4f)) return;
-    if (sqrt(sg2) > 0.0f) *MG = sl_mst_global(fp, mt, &r, theta_o, theta_j, sg2);
-    if (sqrt(si2) > 0.0f) *MGi = sl_mst_global(fp, mt, &r, theta_o, theta_j, si2);
-    if (sqrt(sl2) > 0.0f) *ML = sl_mst_local(mt, &r, theta_o, theta_j, sl2);
+    if ((need & SL_MST_NEED_G) && sqrt(sg2) > 0.0f)
+        *MG = sl_mst_global(fp, mt, &r, theta_o, theta_j, sg2);
+    if ((need & SL_MST_NEED_GI) && sqrt(si2) > 0.0f)
+        *MGi = sl_mst_global(fp, mt, &r, theta_o, theta_j, si2);
+    if ((need & SL_MST_NEED_L) && sqrt(sl2) > 0.0f)
+        *ML = sl_mst_local(mt, &r, theta_o, theta_j, sl2);
 }
 
 #endif

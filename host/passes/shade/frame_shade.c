@@ -16,6 +16,7 @@
 #include "passes/shade/frame_shade.h"
 
 #include "base/parallel.h"
+#include "ms_table.h"
 #include "srbf_c.h"
 #include "srbf_deon_c.h"
 #include "passes/shade/srbf_deon_cl.h"
@@ -241,7 +242,7 @@ static void ms_terms(const sl_shade_ctx *c, const float *sa, const float *x, con
  * 2 dev2)); each scaled to carry the energy of the march's own spread (sl_dual_deflect_norm). */
 static void ms_spread_terms(const sl_shade_ctx *c, const float *sa, const float *x,
                             const sl_ftex_corners *cn, int j, const float sf[3],
-                            const float dev2[3], float MG[3], float MGi[3], float ML[3]) {
+                            const float dev2[3], int need, float MG[3], float MGi[3], float ML[3]) {
     const sl_dual_deflect *d = c->deflect;
     float tilt2[3], sg[3], sl[3], si[3], unused[3];
     sl_ftex_tilt_at(c->ftex, j, cn, tilt2);
@@ -257,7 +258,8 @@ static void ms_spread_terms(const sl_shade_ctx *c, const float *sa, const float 
         ms_terms(c, sa, x, sl, unused, ML);
         ms_terms(c, sa, x, si, MGi, unused);
     } else {
-        sl_volume_ms_terms_spread(c->vms, x[0], x[1], x[2], x[3], x[4], sg, si, sl, MG, MGi, ML);
+        sl_volume_ms_terms_spread(c->vms, x[0], x[1], x[2], x[3], x[4], sg, si, sl, need, MG, MGi,
+                                  ML);
     }
     float l2 = x[4] * x[4];
     for (int col = 0; col < 3; col++) {
@@ -297,22 +299,32 @@ static void accumulate(const shade_common *sc, rowbuf *b) {
             const float *sa = sc->ssig && c->msn ? sc->ssig + 3 * (size_t)p->strand[i] : NULL;
             if (!(sa && (sa[0] != sc->msig[0] || sa[1] != sc->msig[1] || sa[2] != sc->msig[2])))
                 sa = NULL; /* the material's own sigma_a: its table */
-            float MG[3], ML[3], MGi[3];
-            if (c->deflect) {
-                if (dev2_pt != i) sl_ftex_dev2_at(c->ftex, &cn, dev2), dev2_pt = i;
-                ms_spread_terms(c, sa, x, &cn, j, sf, dev2, MG, MGi, ML);
-            } else {
-                ms_terms(c, sa, x, sf, MG, ML);
-                memcpy(MGi, MG, sizeof MG);
-            }
+            float MG[3], ML[3], MGi[3], lf[3] = {1.0f, 1.0f, 1.0f};
             if (c->stack && p->B) {
                 float nb = p->B[(size_t)j * p->n + i];
                 double nf = T > 1e-30f ? -log((double)T) : 69.0;
                 for (int col = 0; col < 3; col++) {
-                    ML[col] *= (float)sl_dual_stack_local_factor(&c->stack[col], nb);
+                    lf[col] = (float)sl_dual_stack_local_factor(&c->stack[col], nb);
                     f[col] = (float)sl_dual_stack_incident_factor(&c->stack[col], nf, nb);
                 }
             }
+            if (c->deflect) {
+                /* the parts of sl_volume_ms_combine_split that get any light: light arriving
+                 * unscattered (T_f f <= T_j) needs no M^G, no interreflection (f <= 1) no M^Gi */
+                int need = SL_MST_NEED_L;
+                for (int col = 0; col < 3; col++) {
+                    float a = Tf[col] * f[col], gi = Tf[col] * (f[col] - 1.0f);
+                    if (a - T > 0.0f && !(gi >= a - T)) need |= SL_MST_NEED_G;
+                    if (a - T > 0.0f && gi > 0.0f) need |= SL_MST_NEED_GI;
+                }
+                if (dev2_pt != i) sl_ftex_dev2_at(c->ftex, &cn, dev2), dev2_pt = i;
+                ms_spread_terms(c, sa, x, &cn, j, sf, dev2, need, MG, MGi, ML);
+            } else {
+                ms_terms(c, sa, x, sf, MG, ML);
+                memcpy(MGi, MG, sizeof MG);
+            }
+            for (int col = 0; col < 3; col++)
+                ML[col] *= lf[col];
             sl_volume_ms_combine_split(x[4], Tf, f, T, MG, MGi, ML, ms);
         }
         const float *o = b->res + 9 * k; /* R rgb, TT rgb, TRT rgb */

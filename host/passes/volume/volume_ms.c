@@ -129,14 +129,15 @@ void sl_volume_ms_terms(const sl_volume_ms *ms, float theta_o, float phi_o, floa
 
 void sl_volume_ms_terms_spread(const sl_volume_ms *ms, float theta_o, float phi_o, float theta_j,
                                float phi_j, float lambda, const float sg[3], const float si[3],
-                               const float sl[3], float MG[3], float MGi[3], float ML[3]) {
+                               const float sl[3], int need, float MG[3], float MGi[3],
+                               float ML[3]) {
     for (int c = 0; c < 3; c++) {
         if (c > 0 && ms->dt.nch == 1 && sg[c] == sg[0] && si[c] == si[0] && sl[c] == sl[0]) {
             MG[c] = MG[0], MGi[c] = MGi[0], ML[c] = ML[0];
             continue;
         }
         sl_ms_table_spread(&ms->fp[c], ms->mt + (size_t)c * SL_MST_FLOATS, theta_o, phi_o, theta_j,
-                           phi_j, lambda, sg[c], si[c], sl[c], &MG[c], &MGi[c], &ML[c]);
+                           phi_j, lambda, sg[c], si[c], sl[c], need, &MG[c], &MGi[c], &ML[c]);
     }
 }
 

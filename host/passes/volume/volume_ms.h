@@ -43,10 +43,11 @@ void sl_volume_ms_terms(const sl_volume_ms *ms, float theta_o, float phi_o, floa
                         float phi_j, float lambda, const float sigma_f[3], float MG[3],
                         float ML[3]);
 /* The same row at three spreads per channel: M^G at sg and at si, M^L at sl (each as
- * sl_volume_ms_terms at that spread; the row's table cells found once). */
+ * sl_volume_ms_terms at that spread; the row's table cells found once); need: the
+ * SL_MST_NEED_* (kernels/ms_table.h) of the values wanted, the others are 0. */
 void sl_volume_ms_terms_spread(const sl_volume_ms *ms, float theta_o, float phi_o, float theta_j,
                                float phi_j, float lambda, const float sg[3], const float si[3],
-                               const float sl[3], float MG[3], float MGi[3], float ML[3]);
+                               const float sl[3], int need, float MG[3], float MGi[3], float ML[3]);
 
 /* The same two parts by the direct evaluation (kernels/ms_response.h, no response table): the
  * reference of the table, ~4x slower. */
