@@ -97,6 +97,16 @@ SL_INLINE float sl_mst_xs(float sF) {
     return sF / (sF + SL_MST_S0) / xmax;
 }
 
+/* Corner c (0..7) of row r's cell at the s_F cell is, fraction fs: its node's floats and its
+ * trilinear weight *w. */
+SL_INLINE SL_GLOBAL const float *sl_mst_corner(SL_GLOBAL const float *mt, const sl_mst_row *r,
+                                               int is, float fs, int c, float *w) {
+    int a = c & 1, b = (c >> 1) & 1, e = c >> 2;
+    *w = (a ? r->fo : 1.0f - r->fo) * (b ? r->fj : 1.0f - r->fj) * (e ? fs : 1.0f - fs);
+    return mt +
+           ((size_t)((r->io + a) * SL_MST_NJ + r->ij + b) * SL_MST_NS + is + e) * SL_MST_STRIDE;
+}
+
 /* M^G of row r at s2 = s_F^2 (the top of the file). */
 SL_INLINE float sl_mst_global(const sl_fiber_params *fp, SL_GLOBAL const float *mt,
                               const sl_mst_row *r, float theta_o, float theta_j, float s2) {
@@ -112,11 +122,8 @@ SL_INLINE float sl_mst_global(const sl_fiber_params *fp, SL_GLOBAL const float *
     int is = sl_mst_cell(sl_mst_xs(sF) * (float)(SL_MST_NS - 1), SL_MST_NS, &fs);
     float mg = 0.0f;
     for (int c = 0; c < 8; c++) {
-        int a = c & 1, b = (c >> 1) & 1, e = c >> 2;
-        float w = (a ? r->fo : 1.0f - r->fo) * (b ? r->fj : 1.0f - r->fj) * (e ? fs : 1.0f - fs);
-        SL_GLOBAL const float *v =
-            mt +
-            ((size_t)((r->io + a) * SL_MST_NJ + r->ij + b) * SL_MST_NS + is + e) * SL_MST_STRIDE;
+        float w;
+        SL_GLOBAL const float *v = sl_mst_corner(mt, r, is, fs, c, &w);
         float g = 0.0f;
         for (int t = 0; t < 3; t++) {
             SL_GLOBAL const float *q = v + t * SL_MST_ND + r->id;
@@ -145,11 +152,8 @@ SL_INLINE float sl_mst_local(SL_GLOBAL const float *mt, const sl_mst_row *r, flo
     float Gb = exp(-db * db / wb2) / (SL_SQRT_PI_F * sqrt(wb2));
     float ml = 0.0f;
     for (int c = 0; c < 8; c++) {
-        int a = c & 1, b = (c >> 1) & 1, e = c >> 2;
-        float w = (a ? r->fo : 1.0f - r->fo) * (b ? r->fj : 1.0f - r->fj) * (e ? fs : 1.0f - fs);
-        SL_GLOBAL const float *v =
-            mt +
-            ((size_t)((r->io + a) * SL_MST_NJ + r->ij + b) * SL_MST_NS + is + e) * SL_MST_STRIDE;
+        float w;
+        SL_GLOBAL const float *v = sl_mst_corner(mt, r, is, fs, c, &w);
         ml += w * v[3 * SL_MST_ND];
     }
     return 2.0f / r->ctj * (SL_PI_F - r->D) / (SL_PI_F * SL_PI_F) * Gb * ml;

@@ -63,6 +63,14 @@ static void slab_grid_free(slab_grid *s) {
     free(s->segs);
 }
 
+/* The march on the slab from +z: coarse cells of 2 voxels, 512 paths, seed 5 (the tests below). */
+static void slab_march_z(const slab_grid *s, sl_ftex *f) {
+    sl_err e = {{0}};
+    sl_march_opts o = {2, 512, 5, 1};
+    double dir[3] = {0, 0, 1};
+    CHECK(sl_march_build(NULL, &s->g, &s->dt, 1, dir, &o, f, &e) == 0);
+}
+
 /* The march on the lattice slab lit from +z (perpendicular to the fibers, theta = 0 at every
  * event). Grid 16 x 16 x 8 voxels of h = 0.25 from the origin (slab: voxel rows z < 1), coarse
  * cells of 2 voxels: vertices at z = 0 (depth d = 1) and z = 0.5 (d = 0.5). Steps of delta = h/2
@@ -72,13 +80,10 @@ static void slab_grid_free(slab_grid *s) {
  * Interior vertices (9 per depth) x 512 paths are averaged; the tolerance is 4 standard errors of
  * the mean of a^K plus the float table's 1e-4. */
 TEST(march_slab_binomial) {
-    sl_err e = {{0}};
     slab_grid s;
     slab_grid_setup(&s);
-    sl_march_opts o = {2, 512, 5, 1};
-    double dir[3] = {0, 0, 1};
     sl_ftex f;
-    CHECK(sl_march_build(NULL, &s.g, &s.dt, 1, dir, &o, &f, &e) == 0);
+    slab_march_z(&s, &f);
     double ref[9];
     slref_dual_terms(&s.m, 0, 0.0, ref);
     double a = ref[SLREF_DUAL_AF], b = ref[SLREF_DUAL_BETA_F];
@@ -135,13 +140,10 @@ TEST(march_slab_binomial) {
  * per-event a_f(theta) now varies with the tilt (theta ~ 0.07 rad): 5 % covers it and the
  * ratio estimate's spread over 4608 paths. */
 TEST(march_slab_tilt) {
-    sl_err e = {{0}};
     slab_grid s;
     slab_grid_setup(&s);
-    sl_march_opts o = {2, 512, 5, 1};
-    double dir[3] = {0, 0, 1};
     sl_ftex f;
-    CHECK(sl_march_build(NULL, &s.g, &s.dt, 1, dir, &o, &f, &e) == 0);
+    slab_march_z(&s, &f);
     size_t nvert = (size_t)f.m[0] * f.m[1] * f.m[2];
     float worst = 0.0f;
     for (size_t i = 0; i < nvert * SL_MARCH_CH; i++)
@@ -154,7 +156,7 @@ TEST(march_slab_tilt) {
     for (size_t v = 0; v < nvox; v++)
         if (s.g.vox[v * SL_VOX_FIELDS + SL_VOX_SIGMA] > 0.0f)
             s.g.vox[v * SL_VOX_FIELDS + SL_VOX_DEV] = (float)D;
-    CHECK(sl_march_build(NULL, &s.g, &s.dt, 1, dir, &o, &f, &e) == 0);
+    slab_march_z(&s, &f);
     double E1 = 0.0, du = D * D / 200.0; /* midpoint rule over u = |g|^2 to 40 D^2 */
     for (int k = 0; k < 8000; k++) {
         double u = (k + 0.5) * du;
