@@ -16,6 +16,7 @@
 #include "lighting/lobe_subdivide.h"
 #include "passes/light/shadow_split.h"
 #include "srbf_c.h"
+#include "march.h"
 #include "voxel.h"
 
 #include <math.h>
@@ -250,9 +251,10 @@ int sl_frame_shadow_layers(const sl_scene *s) {
 /* Per pixel: the frame buffer (SL_FBUF_FLOATS, alloc_fbuf), the K-buffer (K sl_kfrag + a uint8
  * count, frame_view.c), the fragment-rate shade map (K uint32, build_points) and ~16 B for the
  * outputs (cmd_render's EXR planes). Per lobe map: z0 (uint32) + K layers of 64-bit summed-area
- * tables (host/passes/light/shadow.h). The voxel grid: SL_VOX_FIELDS floats per voxel. The shading
- * points (at most one per K-buffer entry: pos 24 B, tan 12 B, strand 4 B, T 4 B per lobe, out 56 B)
- * are counted at fragment rate, their largest case. */
+ * tables (host/passes/light/shadow.h). The voxel grid: SL_VOX_FIELDS floats per voxel, and the
+ * march's per-lobe textures on its coarse vertices. The shading
+ * points (at most one per K-buffer entry: pos 24 B, tan 12 B, strand 4 B, T and the optical depth
+ * behind B 4 B each per lobe, out 56 B) are counted at fragment rate, their largest case. */
 void sl_frame_estimate(const sl_scene *s, int shadow_size_opt, sl_frame_need *n) {
     double npx = (double)s->width * (double)s->height;
     int K = sl_frame_oit_k(s);
@@ -266,11 +268,15 @@ void sl_frame_estimate(const sl_scene *s, int shadow_size_opt, sl_frame_need *n)
     int nmaps = SL_SHADOW_SPLIT_MAPS_PER_LOBE * nl;
     if (s->broad_lobes == SL_BROAD_SUBDIVIDE) nmaps = sl_subdiv_budget(nl, s->sublobe_width);
     int nshade = s->broad_lobes == SL_BROAD_SUBDIVIDE ? nmaps : nl;
-    double points = npx * K * (24.0 + 12.0 + 4.0 + 4.0 * nshade + 4.0 * SL_SHADE_FLOATS);
+    double points = npx * K * (24.0 + 12.0 + 4.0 + 8.0 * nshade + 4.0 * SL_SHADE_FLOATS);
     double shadow_one = (double)size * size * (4.0 + 8.0 * layers),
            shadow = (double)nmaps * shadow_one;
     double vox =
         s->voxels > 0 ? (double)s->voxels * s->voxels * s->voxels * 4.0 * SL_VOX_FIELDS : 0.0;
+    /* the march's textures (sl_ftex): per shaded lobe and coarse vertex (every 4 voxels)
+     * SL_MARCH_CH floats each of T_f, ln T_f, sigma_f and tilt2, and the per-vertex dev^2 */
+    double mv = s->voxels > 0 ? s->voxels / 4.0 + 2.0 : 0.0;
+    vox += mv * mv * mv * 4.0 * SL_MARCH_CH * (4.0 * nshade + 1.0);
     n->host = fbuf + view + outs + points + shadow + vox;
     n->largest = kbuf, n->largest_what = "K-buffer",
     n->setting = "image.width/height or quality.oit_layers";

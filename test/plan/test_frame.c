@@ -682,8 +682,8 @@ TEST(frame_estimate_matches_sizes) {
     s.oit_layers = 8;
     double b = (double)sl_frame_estimate_bytes(&s, 0);
     /* per pixel and layer: one sl_kfrag, one uint32 shade-map slot and one shading point
-     * (pos 24 + tan 12 + strand 4 + T 4 per lobe + 14 floats out = 100 B) */
-    CHECK_NEAR(b - a, 5000.0 * 4 * (sizeof(sl_kfrag) + 4 + 100), 0.5);
+     * (pos 24 + tan 12 + strand 4 + T and B 4 each per lobe + 14 floats out = 104 B) */
+    CHECK_NEAR(b - a, 5000.0 * 4 * (sizeof(sl_kfrag) + 4 + 104), 0.5);
     s.shadow_size = 32;
     double c = (double)sl_frame_estimate_bytes(&s, 0);
     /* x SL_SHADOW_SPLIT_MAPS_PER_LOBE maps per lobe (broad lobes are split, shadow_split.h) */
@@ -692,14 +692,16 @@ TEST(frame_estimate_matches_sizes) {
     /* broad lobes subdivided (host/lighting/lobe_subdivide.h): at most the lobe plus the
      * ceil(4 pi (0.5 / w)^2) sub-lobes of quality.sublobe_width w (35 at the default 0.3, 51 at
      * 0.25) maps and as many lobes shaded (a T float per lobe per point) instead of 2 maps and
-     * 1 lobe: the scene's width, not the finest one */
+     * 1 lobe: the scene's width, not the finest one. Per lobe shaded: T and B per point, and the
+     * march's four textures on (4 / 4 + 2)^3 coarse vertices of 3 floats. */
     s.broad_lobes = SL_BROAD_SUBDIVIDE;
     s.sublobe_width = 0.3;
     double d = (double)sl_frame_estimate_bytes(&s, 0);
-    CHECK_NEAR(d - c, (36.0 - 2.0) * 32 * 32 * (4 + 8 * 4) + 5000.0 * 8 * 4 * (36 - 1), 0.5);
+    const double per_lobe = 5000.0 * 8 * 8 + 27.0 * 4 * 3 * 4;
+    CHECK_NEAR(d - c, (36.0 - 2.0) * 32 * 32 * (4 + 8 * 4) + per_lobe * (36 - 1), 0.5);
     s.sublobe_width = 0.25;
     d = (double)sl_frame_estimate_bytes(&s, 0);
-    CHECK_NEAR(d - c, (52.0 - 2.0) * 32 * 32 * (4 + 8 * 4) + 5000.0 * 8 * 4 * (52 - 1), 0.5);
+    CHECK_NEAR(d - c, (52.0 - 2.0) * 32 * 32 * (4 + 8 * 4) + per_lobe * (52 - 1), 0.5);
     s.broad_lobes = SL_BROAD_SPLIT;
     CHECK(sl_frame_oit_k(&s) == 8);
     s.oit_layers = 1000;
