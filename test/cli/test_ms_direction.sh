@@ -47,3 +47,29 @@ if [ -n "${R[0]}" ] && [ -n "${R[48]}" ] &&
 else
     fail ms_direction_follows_the_light "ours / path tracer at 0 and 48 deg: '${R[0]}' and '${R[48]}': the direction moves our MS by more than 1.35x the truth's"
 fi
+
+# The default scene (data/default.json: the same hair, melanin 0.3, the shipped city map) at
+# 80 x 60: mean colour ours / path tracer (32 spp x 2) within 5 % per channel (issue 19's target
+# is 3 % at the report's size; measured here 1.015 / 0.987 / 0.978, before the spread 0.780 /
+# 0.825 / 0.919, which fails).
+"$PY" - "$D/default.json" "$PWD/data/default.json" "$PWD/data/env/city_256.hdr" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[2]))
+s["environment"]["file"] = sys.argv[3]
+s.pop("output", None)
+s["image"] = {"width": 80, "height": 60}
+json.dump(s, open(sys.argv[1], "w"))
+PY
+"$SL" --quiet render "$D/default.json" --device c -o "$D/fd.exr" 2>/dev/null
+for S in 1 2; do
+    "$SL" --quiet reference "$D/default.json" --path --spp 32 --seed $S --threads 2 \
+        -o "$D/pd-$S.exr" 2>/dev/null
+done
+M=$("$SL" compare "$D/fd.exr" "$D/pd-1.exr" "$D/pd-2.exr" --csv 2>/dev/null |
+    awk -F, '$1 == "ratio" {print $2, $3, $4}')
+if [ -n "${SL_TEST_VERBOSE:-}" ]; then echo "  default scene mean ours / path tracer: $M"; fi
+if [ -n "$M" ] && echo "$M" | awk '{exit !($1 >= 0.95 && $1 <= 1.05 && $2 >= 0.95 && $2 <= 1.05 && $3 >= 0.95 && $3 <= 1.05)}'; then
+    pass ms_default_scene_mean
+else
+    fail ms_default_scene_mean "mean colour ours / path tracer '$M', want each within 5 %"
+fi
