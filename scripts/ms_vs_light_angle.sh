@@ -24,14 +24,7 @@ QX=${QUALITY:+, $QUALITY}
 PY=python3; [ -x /usr/bin/python3 ] && PY=/usr/bin/python3
 for EL in ${ELEVATIONS:-0 48 75}; do
     if [ ! -s "$D/p$EL-2.exr" ]; then
-    "$PY" "$(dirname "$0")/sun_map.py" "$D/sun$EL.hdr" "$EL"
-    cat > "$D/s$EL.json" <<JSON
-{"hair": {"procedural": {"style": "wavy", "strands": 4000, "points": 16, "seed": 1}, "radius": 0.04},
- "material": {"model": "chiang", "sigma_a": [0, 0, 0], "roughness": 0.3, "radial_roughness": 0.3},
- "environment": {"file": "sun$EL.hdr"}, "camera": {"fov_deg": 30},
- "image": {"width": 160, "height": 120},
- "quality": {"lobes": 4, "multiple_scattering": "on"}}
-JSON
+    "$PY" "$(dirname "$0")/sun_map.py" "$D/sun$EL.hdr" "$EL" --scene "$D/s$EL.json" --size 160x120
     (cd "$D" && for S in 1 2; do
             "$SL" --quiet reference "s$EL.json" --path --spp "$SPP" --seed $S --threads 2 \
                 -o "p$EL-$S.exr"

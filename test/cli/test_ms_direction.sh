@@ -17,14 +17,7 @@ ratio() { # ratio OURS.exr REF1.exr REF2.exr: mean MS ours / path tracer (grey: 
 }
 declare -A R
 for EL in 0 48; do
-    "$PY" scripts/sun_map.py "$D/sun$EL.hdr" "$EL"
-    cat > "$D/s$EL.json" <<JSON
-{"hair": {"procedural": {"style": "wavy", "strands": 4000, "points": 16, "seed": 1}, "radius": 0.04},
- "material": {"model": "chiang", "sigma_a": [0, 0, 0], "roughness": 0.3, "radial_roughness": 0.3},
- "environment": {"file": "sun$EL.hdr"}, "camera": {"fov_deg": 30},
- "image": {"width": 80, "height": 60},
- "quality": {"lobes": 4, "multiple_scattering": "on"}}
-JSON
+    "$PY" scripts/sun_map.py "$D/sun$EL.hdr" "$EL" --scene "$D/s$EL.json" --size 80x60
     "$SL" --quiet render "$D/s$EL.json" --device c --aov MS -o "$D/f$EL.exr" 2>/dev/null
     for S in 1 2; do
         "$SL" --quiet reference "$D/s$EL.json" --path --spp 32 --seed $S --threads 2 \
