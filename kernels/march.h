@@ -112,24 +112,24 @@ SL_INLINE float sl_march_tilt2(const float *t, float tn, const float *d, float d
     return g;
 }
 
-/* One shadow path from x toward w; T and s2 (SL_MARCH_CH each) start at 1 and 0, *g2 (the sum of
- * the events' tilts, sl_march_tilt2) at 0. ref: the vertex's reference fiber (sl_march_tilt_ref).
- * tabs: SL_MARCH_CH dual tables (SL_DUAL_TABLE_FLOATS each). ptab: 0, or this lobe's
- * sl_march_event_p of every voxel (0 where sigma is 0) precomputed with delta = 0.5 h (the C twin:
- * one exp per voxel instead of one per step; the same floats, so the same events). Returns the
- * number of events. */
+/* One shadow path from x toward w; T and s2 (SL_MARCH_CH each) start at 1 and 0, *tilt (g2_p at
+ * the top of the file: the sum of the events' sl_march_tilt2) at 0. ref: the vertex's reference
+ * fiber (sl_march_tilt_ref). tabs: SL_MARCH_CH dual tables (SL_DUAL_TABLE_FLOATS each). ptab: 0, or
+ * this lobe's sl_march_event_p of every voxel (0 where sigma is 0) precomputed with delta = 0.5 h
+ * (the C twin: one exp per voxel instead of one per step; the same floats, so the same events).
+ * Returns the number of events. */
 SL_INLINE int sl_march_path(SL_GLOBAL const float *vox, int nx, int ny, int nz, const float *lo,
                             float h, SL_GLOBAL const float *tabs, const float *x, const float *w,
                             sl_uint seed, sl_uint vert, sl_uint lobe, sl_uint path,
                             SL_GLOBAL const float *ptab, const float *ref, float *T, float *s2,
-                            float *g2) {
+                            float *tilt) {
     const float delta = 0.5f * h, inv_h = 1.0f / h;
     const float tex = sl_march_exit(x, w, nx, ny, nz, lo, h);
     const sl_uint key = sl_march_rand_key(seed, vert, lobe, path);
     const float j = sl_march_rand_at(key, 0xffffffffu);
     int events = 0;
     float d0[3] = {ref[0], ref[1], ref[2]}, dev0 = ref[3];
-    *g2 = 0.0f;
+    *tilt = 0.0f;
     for (int c = 0; c < SL_MARCH_CH; c++) {
         T[c] = 1.0f;
         s2[c] = 0.0f;
@@ -178,7 +178,7 @@ SL_INLINE int sl_march_path(SL_GLOBAL const float *vox, int nx, int ny, int nz, 
             d0[0] = d[0], d0[1] = d[1], d0[2] = d[2];
             dev0 = dev;
         }
-        *g2 += sl_march_tilt2(t, tn, d0, dev0);
+        *tilt += sl_march_tilt2(t, tn, d0, dev0);
         float cw = tn > 0.0f ? fabs(w[0] * t[0] + w[1] * t[1] + w[2] * t[2]) / tn : 0.0f;
         float theta = asin(sl_minf(cw, 1.0f));
         /* Every row of every channel's table has the same nodes: the interval and fraction of
