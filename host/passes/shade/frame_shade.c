@@ -16,7 +16,6 @@
 #include "passes/shade/frame_shade.h"
 
 #include "base/parallel.h"
-#include "ms_table.h"
 #include "srbf_c.h"
 #include "srbf_deon_c.h"
 #include "passes/shade/srbf_deon_cl.h"
@@ -309,14 +308,9 @@ static void accumulate(const shade_common *sc, rowbuf *b) {
                 }
             }
             if (c->deflect) {
-                /* the parts of sl_volume_ms_combine_split that get any light: light arriving
-                 * unscattered (T_f f <= T_j) needs no M^G, no interreflection (f <= 1) no M^Gi */
-                int need = SL_MST_NEED_L;
-                for (int col = 0; col < 3; col++) {
-                    float a = Tf[col] * f[col], gi = Tf[col] * (f[col] - 1.0f);
-                    if (a - T > 0.0f && !(gi >= a - T)) need |= SL_MST_NEED_G;
-                    if (a - T > 0.0f && gi > 0.0f) need |= SL_MST_NEED_GI;
-                }
+                /* light arriving unscattered (T_f f <= T_j) needs no M^G, no interreflection
+                 * (f <= 1) no M^Gi */
+                int need = sl_volume_ms_split_need(Tf, f, T);
                 if (dev2_pt != i) sl_ftex_dev2_at(c->ftex, &cn, dev2), dev2_pt = i;
                 ms_spread_terms(c, sa, x, &cn, j, sf, dev2, need, MG, MGi, ML);
             } else {

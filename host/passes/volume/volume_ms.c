@@ -173,15 +173,33 @@ void sl_volume_ms_combine(float lambda, const float Tf[3], float Tj, const float
     }
 }
 
+/* The light arriving a = Tf f, the part of it that scattered on the way g = max(a - Tj, 0) and
+ * the part of that the stacks add by interreflection gi = Tf (f - 1) clamped to [0, g]. */
+static float split_parts(float Tf, float f, float Tj, float *g, float *gi) {
+    float a = Tf * f;
+    *g = a - Tj > 0.0f ? a - Tj : 0.0f;
+    float i = Tf * (f - 1.0f);
+    *gi = i > 0.0f ? (i < *g ? i : *g) : 0.0f;
+    return a;
+}
+
+int sl_volume_ms_split_need(const float Tf[3], const float f[3], float Tj) {
+    int need = SL_MST_NEED_L;
+    for (int c = 0; c < 3; c++) {
+        float g, gi;
+        split_parts(Tf[c], f[c], Tj, &g, &gi);
+        if (g - gi > 0.0f) need |= SL_MST_NEED_G;
+        if (gi > 0.0f) need |= SL_MST_NEED_GI;
+    }
+    return need;
+}
+
 void sl_volume_ms_combine_split(float lambda, const float Tf[3], const float f[3], float Tj,
                                 const float MG[3], const float MGi[3], const float ML[3],
                                 float out[3]) {
     double l2 = (double)lambda * lambda, P = 3.14159265358979 * l2 * (1 - exp(-4 / l2));
     for (int c = 0; c < 3; c++) {
-        float a = Tf[c] * f[c];
-        float g = a - Tj > 0.0f ? a - Tj : 0.0f;
-        float gi = Tf[c] * (f[c] - 1.0f);
-        gi = gi > 0.0f ? (gi < g ? gi : g) : 0.0f;
+        float g, gi, a = split_parts(Tf[c], f[c], Tj, &g, &gi);
         float v = (float)P * ((g - gi) * MG[c] + gi * MGi[c] + SL_DUAL_DB * a * ML[c]);
         out[c] = isfinite(v) && v > 0.0f ? v : 0.0f;
     }

@@ -75,5 +75,9 @@ void sl_volume_ms_combine(float lambda, const float Tf[3], float Tj, const float
 void sl_volume_ms_combine_split(float lambda, const float Tf[3], const float f[3], float Tj,
                                 const float MG[3], const float MGi[3], const float ML[3],
                                 float out[3]);
+/* Which of sl_volume_ms_combine_split's terms get any light (SL_MST_NEED_* of kernels/ms_table.h,
+ * for sl_volume_ms_terms_spread): M^L always, M^G where some scattered light is not
+ * interreflected, M^Gi where some is. */
+int sl_volume_ms_split_need(const float Tf[3], const float f[3], float Tj);
 
 #endif
