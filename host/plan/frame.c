@@ -252,9 +252,9 @@ int sl_frame_shadow_layers(const sl_scene *s) {
  * count, frame_view.c), the fragment-rate shade map (K uint32, build_points) and ~16 B for the
  * outputs (cmd_render's EXR planes). Per lobe map: z0 (uint32) + K layers of 64-bit summed-area
  * tables (host/passes/light/shadow.h). The voxel grid: SL_VOX_FIELDS floats per voxel, and the
- * march's per-lobe textures on its coarse vertices. The shading
- * points (at most one per K-buffer entry: pos 24 B, tan 12 B, strand 4 B, T and the optical depth
- * behind B 4 B each per lobe, out 56 B) are counted at fragment rate, their largest case. */
+ * march's per-lobe textures on its coarse vertices. The shading points (at most one per K-buffer
+ * entry: pos 24 B, tan 12 B, strand 4 B, T and the optical depth behind B 4 B each per lobe, out
+ * 56 B) are counted at fragment rate, their largest case. */
 void sl_frame_estimate(const sl_scene *s, int shadow_size_opt, sl_frame_need *n) {
     double npx = (double)s->width * (double)s->height;
     int K = sl_frame_oit_k(s);
