@@ -262,10 +262,10 @@ static void ms_spread_terms(const sl_shade_ctx *c, const float *sa, const float 
     }
     float l2 = x[4] * x[4];
     for (int col = 0; col < 3; col++) {
-        float n0 = sl_dual_deflect_norm(d, x[2], sqrtf(l2 + sf[col] * sf[col]));
-        MG[col] *= n0 / sl_dual_deflect_norm(d, x[2], sqrtf(l2 + sg[col] * sg[col]));
-        ML[col] *= n0 / sl_dual_deflect_norm(d, x[2], sqrtf(l2 + sl[col] * sl[col]));
-        MGi[col] *= n0 / sl_dual_deflect_norm(d, x[2], sqrtf(l2 + si[col] * si[col]));
+        float n0 = sl_dual_deflect_norm(x[2], sqrtf(l2 + sf[col] * sf[col]));
+        MG[col] *= n0 / sl_dual_deflect_norm(x[2], sqrtf(l2 + sg[col] * sg[col]));
+        ML[col] *= n0 / sl_dual_deflect_norm(x[2], sqrtf(l2 + sl[col] * sl[col]));
+        MGi[col] *= n0 / sl_dual_deflect_norm(x[2], sqrtf(l2 + si[col] * si[col]));
     }
 }
 

@@ -6,6 +6,7 @@
 #include "fiber_c.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 
 /* Midpoint nodes. The moments are ratios of smooth sums over the lobes: 8 x 24 x 48 gives the
@@ -94,7 +95,12 @@ static double norm_exact(double mu, double s) {
     return sum / (sqrt(M_PI) * s);
 }
 
-static void norm_table(float *t) {
+/* N on SL_DEFLECT_NMU x SL_DEFLECT_NS nodes: material-independent, built once per process. */
+static float norm_tab[SL_DEFLECT_NMU * SL_DEFLECT_NS];
+static pthread_once_t norm_once = PTHREAD_ONCE_INIT;
+
+static void norm_table(void) {
+    float *t = norm_tab;
     double xmax = NORM_SMAX / (NORM_SMAX + NORM_S0);
     for (int a = 0; a < SL_DEFLECT_NMU; a++) {
         double mu = -0.5 * M_PI + M_PI * a / (SL_DEFLECT_NMU - 1);
@@ -105,7 +111,8 @@ static void norm_table(float *t) {
     }
 }
 
-float sl_dual_deflect_norm(const sl_dual_deflect *d, float theta_j, float s) {
+float sl_dual_deflect_norm(float theta_j, float s) {
+    pthread_once(&norm_once, norm_table);
     float u = (theta_j + 0.5f * (float)M_PI) * ((float)(SL_DEFLECT_NMU - 1) / (float)M_PI);
     u = u > 0.0f ? (u < (float)(SL_DEFLECT_NMU - 1) ? u : (float)(SL_DEFLECT_NMU - 1)) : 0.0f;
     float xmax = (float)(NORM_SMAX / (NORM_SMAX + NORM_S0));
@@ -115,13 +122,12 @@ float sl_dual_deflect_norm(const sl_dual_deflect *d, float theta_j, float s) {
     a = a > SL_DEFLECT_NMU - 2 ? SL_DEFLECT_NMU - 2 : a;
     b = b > SL_DEFLECT_NS - 2 ? SL_DEFLECT_NS - 2 : b;
     float fu = u - (float)a, fv = v - (float)b;
-    const float *r0 = d->norm + a * SL_DEFLECT_NS + b, *r1 = r0 + SL_DEFLECT_NS;
+    const float *r0 = norm_tab + a * SL_DEFLECT_NS + b, *r1 = r0 + SL_DEFLECT_NS;
     return (1.0f - fu) * ((1.0f - fv) * r0[0] + fv * r0[1]) +
            fu * ((1.0f - fv) * r1[0] + fv * r1[1]);
 }
 
 void sl_dual_deflect_build(const sl_material *m, const sl_dual_tables *t, sl_dual_deflect *d) {
-    norm_table(d->norm);
     int nch = m->sigma_a_rgb ? 3 : 1;
     for (int c = 0; c < nch; c++) {
         sl_fiber_params fp;

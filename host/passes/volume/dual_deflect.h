@@ -28,18 +28,17 @@ typedef struct sl_dual_deflect {
     /* per channel: the mean squared longitudinal width of one layer's backscattering, sigma_b^2
      * of the dual tables weighted by a_b cos theta_d (the width convention of sigma_f) */
     float sb2[3];
-    /* the energy of the spread psi_f (sl_dual_deflect_norm): SL_DEFLECT_NMU x SL_DEFLECT_NS */
-    float norm[SL_DEFLECT_NMU * SL_DEFLECT_NS];
 } sl_dual_deflect;
 
 /* The share of light arriving at inclination theta_j with spread s (the Gaussian
  * exp(-(x - theta_j)^2 / s^2) / (sqrt(pi) s) of Xu's psi_f) that lies on the sphere,
  *     N(theta_j, s) = integral_{-pi/2}^{pi/2} g(x; theta_j, s) cos x dx,
- * from d's table (bilinear in theta_j and s / (s + 1); s >= 6 read at 6). Xu's psi_f divides
+ * from a table of SL_DEFLECT_NMU x SL_DEFLECT_NS nodes (bilinear in theta_j and s / (s + 1);
+ * s >= 6 read at 6; material-independent, built on the first call, thread-safe). Xu's psi_f divides
  * by cos theta_j, N's limit for a narrow spread: a wider spread moves light to where cos is
  * smaller and cuts it at the poles, so the response of a widened spread is scaled by
  * N(theta_j, s_0) / N(theta_j, s) to carry the same energy as at the march's own s_0. */
-float sl_dual_deflect_norm(const sl_dual_deflect *d, float theta_j, float s);
+float sl_dual_deflect_norm(float theta_j, float s);
 
 /* Computes d for material m with its dual tables t (sl_dual_tables_build of the same m): E by a
  * midpoint rule over theta_i (8), theta_o (24) and phi (48) of the float fiber function
