@@ -159,25 +159,10 @@ SL_INLINE float sl_mst_local(SL_GLOBAL const float *mt, const sl_mst_row *r, flo
     return 2.0f / r->ctj * (SL_PI_F - r->D) / (SL_PI_F * SL_PI_F) * Gb * ml;
 }
 
-/* M^G and M^L of one channel from its table mt (SL_MST_FLOATS; __global in OpenCL): the same
- * arguments and meaning as sl_ms_response_1 (kernels/ms_response.h), which is the reference. */
-SL_INLINE void sl_ms_table_1(const sl_fiber_params *fp, SL_GLOBAL const float *mt, float theta_o,
-                             float phi_o, float theta_j, float phi_j, float lambda, float sigma_f,
-                             float *MG, float *ML) {
-    float s2 = lambda * lambda + sigma_f * sigma_f;
-    sl_mst_row r;
-    sl_mst_row_init(theta_o, phi_o, theta_j, phi_j, &r);
-    *MG = 0.0f;
-    *ML = 0.0f;
-    if (!(r.ctj > 1e-4f) || !(sqrt(s2) > 0.0f)) return;
-    *MG = sl_mst_global(fp, mt, &r, theta_o, theta_j, s2);
-    *ML = sl_mst_local(mt, &r, theta_o, theta_j, s2);
-}
-
-/* The same row at three spreads (sigma_g, sigma_i for M^G, sigma_l for M^L; docs/volume.md
- * "Where the scattered light goes"): each value equals sl_ms_table_1's at that spread, the row's
- * cells found once. need: SL_MST_NEED_G | _GI | _L, the values wanted (the others are 0 and cost
- * nothing: a row whose light arrives unscattered needs no M^G). */
+/* One row of one channel's table at three spreads (sigma_g, sigma_i for M^G, sigma_l for M^L;
+ * docs/volume.md "Where the scattered light goes"): each value is sl_ms_table_1's at that spread,
+ * the row's cells found once. need: SL_MST_NEED_G | _GI | _L, the values wanted (the others are 0
+ * and cost nothing: a row whose light arrives unscattered needs no M^G). */
 #define SL_MST_NEED_G 1
 #define SL_MST_NEED_GI 2
 #define SL_MST_NEED_L 4
@@ -197,6 +182,16 @@ SL_INLINE void sl_ms_table_spread(const sl_fiber_params *fp, SL_GLOBAL const flo
         *MGi = sl_mst_global(fp, mt, &r, theta_o, theta_j, si2);
     if ((need & SL_MST_NEED_L) && sqrt(sl2) > 0.0f)
         *ML = sl_mst_local(mt, &r, theta_o, theta_j, sl2);
+}
+
+/* M^G and M^L of one channel from its table mt (SL_MST_FLOATS; __global in OpenCL): the same
+ * arguments and meaning as sl_ms_response_1 (kernels/ms_response.h), which is the reference. */
+SL_INLINE void sl_ms_table_1(const sl_fiber_params *fp, SL_GLOBAL const float *mt, float theta_o,
+                             float phi_o, float theta_j, float phi_j, float lambda, float sigma_f,
+                             float *MG, float *ML) {
+    float unused;
+    sl_ms_table_spread(fp, mt, theta_o, phi_o, theta_j, phi_j, lambda, sigma_f, sigma_f, sigma_f,
+                       SL_MST_NEED_G | SL_MST_NEED_L, MG, &unused, ML);
 }
 
 #endif
