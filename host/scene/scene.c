@@ -52,7 +52,8 @@ static void resolve(const char *scene_path, const char *rel, char *out, size_t n
 }
 
 static int read_hair(const sl_json_ctx *top, const cJSON *h, sl_scene *s, sl_err *e) {
-    static const char *const keys[] = {"file", "procedural", "up", "radius", "tfx_follow", NULL};
+    static const char *const keys[] = {"file",       "procedural",   "up", "radius",
+                                       "tfx_follow", "transparency", NULL};
     sl_json_ctx c = {top->file, "hair"};
     if (sl_json_check_keys(&c, h, keys, e)) return -1;
     const cJSON *file = cJSON_GetObjectItemCaseSensitive(h, "file");
@@ -101,6 +102,11 @@ static int read_hair(const sl_json_ctx *top, const cJSON *h, sl_scene *s, sl_err
     if (sl_json_number(&c, h, "radius", 0, &s->radius, e)) return -1;
     if (cJSON_GetObjectItemCaseSensitive(h, "radius") && !(s->radius > 0))
         return sl_fail(e, "%s: hair.radius: must be > 0", top->file);
+    char tr[16] = "opaque";
+    if (sl_json_string(&c, h, "transparency", 0, tr, sizeof tr, e)) return -1;
+    if (strcmp(tr, "opaque") && strcmp(tr, "file"))
+        return sl_fail(e, "%s: hair.transparency: expected \"opaque\" or \"file\"", top->file);
+    s->file_transparency = tr[0] == 'f';
     const cJSON *f;
     if (sl_json_object(&c, h, "tfx_follow", 0, &f, e)) return -1;
     if (f) {

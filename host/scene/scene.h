@@ -33,6 +33,10 @@ typedef struct sl_scene {
     uint32_t proc_strands, proc_points, proc_seed;
     int up_z;      /* file's up axis is +Z (converted to the world's +Y) */
     double radius; /* > 0 overrides the file's thickness; 0 = from file */
+    /* hair.transparency "file": the view pass composites the file's per-point transparency
+     * (.hair); "opaque" (default, 0): it is dropped at load, fibers are opaque as in the
+     * shadows, the references and Cycles (docs/formats.md "Transparency") */
+    int file_transparency;
     int has_follow;
     int follow_per_guide;
     double follow_root_radius, follow_tip_spread;

@@ -36,6 +36,14 @@ int sl_scene_load_hair(const sl_scene *s, sl_hair *h, sl_err *e) {
             }
         }
     }
+    if (!s->file_transparency) {
+        /* fibers are opaque (numerics.md sec. 7): the file's transparency is an alpha for
+         * line rasterizers, which would let the camera see through fibers that cast full
+         * shadows and that the path tracer hits (docs/formats.md "Transparency") */
+        free(h->transparency);
+        h->transparency = NULL;
+        h->default_transparency = 0.0f;
+    }
     if (s->radius > 0) {
         free(h->radius);
         h->radius = NULL;

@@ -1,7 +1,9 @@
 /* test_scene_inputs.c: the one scene loader (host/scene/scene_inputs.h): render's path (from the
  * file) and the reference's (from a loaded scene) frame the same camera, the "eye omitted" rule
  * looks along -Z at the bounds' centre, command-line sizes override the scene's, lobes come
- * rotated and scaled, and a missing file fails with the message and in the order of before. */
+ * rotated and scaled, a missing file fails with the message and in the order of before, and the
+ * file's transparency is dropped unless hair.transparency says "file". */
+#include "scene/scene_hair.h"
 #include "scene/scene_inputs.h"
 #include "test.h"
 
@@ -160,4 +162,52 @@ TEST(scene_inputs_missing_files_in_order) {
     CHECK(sl_scene_inputs_load(p, &o, &in, &e) == -1);
     CHECK_MSG(strstr(e.msg, "camera.fov_deg") != NULL, "got \"%s\"", e.msg);
     sl_scene_inputs_free(&in);
+}
+
+/* hair.transparency (docs/formats.md "Transparency"): by default the file's per-point
+ * transparency is dropped at load (fibers are opaque, as in the shadows, the references and
+ * Cycles); "file" keeps it for the view pass; anything else is an error naming the key. */
+TEST(scene_inputs_hair_transparency) {
+    sl_hair h = {0};
+    sl_err e = {{0}};
+    sl_hair_procedural p = {0, 20, 5, 7};
+    CHECK(sl_hair_generate(&p, &h, &e) == 0);
+    free(h.transparency);
+    h.transparency = malloc(h.num_points * sizeof *h.transparency);
+    for (uint32_t i = 0; i < h.num_points; i++)
+        h.transparency[i] = 0.25f;
+    char hair[1024];
+    snprintf(hair, sizeof hair, "%s/scene_inputs_tr.hair", sl_test_tmpdir());
+    CHECK_MSG(sl_hair_write_cyhair(hair, &h, NULL, &e) == 0, "%s", e.msg);
+    sl_hair_free(&h);
+    const char *modes[] = {"", ",\"transparency\":\"opaque\"", ",\"transparency\":\"file\""};
+    for (int m = 0; m < 3; m++) {
+        char text[2048];
+        snprintf(text, sizeof text,
+                 "{\"hair\":{\"file\":\"scene_inputs_tr.hair\"%s},\"image\":{\"width\":16,"
+                 "\"height\":8},"
+                 "\"environment\":{\"lobes\":\"l.json\"}}",
+                 modes[m]); /* relative: beside the scene */
+        const char *path = scratch("tr.json", text);
+        sl_scene *s = calloc(1, sizeof *s);
+        CHECK_MSG(sl_scene_load(path, s, &e) == 0, "%s", e.msg);
+        sl_hair got = {0};
+        CHECK_MSG(sl_scene_load_hair(s, &got, &e) == 0, "%s", e.msg);
+        if (m < 2) {
+            CHECK(got.transparency == NULL && got.default_transparency == 0.0f);
+        } else {
+            CHECK(got.transparency != NULL);
+            for (uint32_t i = 0; got.transparency && i < got.num_points; i++)
+                CHECK(got.transparency[i] == 0.25f);
+        }
+        sl_hair_free(&got);
+        free(s);
+    }
+    const char *bad =
+        scratch("trbad.json", "{\"hair\":{\"procedural\":{},\"transparency\":\"half\"}}");
+    sl_scene *s = calloc(1, sizeof *s);
+    CHECK(sl_scene_load(bad, s, &e) != 0);
+    CHECK_MSG(strstr(e.msg, "hair.transparency: expected \"opaque\" or \"file\"") != NULL, "%s",
+              e.msg);
+    free(s);
 }
