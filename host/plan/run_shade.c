@@ -54,14 +54,14 @@ static float *to_floats(const double *v, size_t n) {
     return f;
 }
 
-static int lobe_sums(sl_renderer *r, const sl_shade_points *pts, int nused, float **T, float **B,
+static int lobe_sums(sl_renderer *r, size_t n, const double *pos, int nused, float **T, float **B,
                      sl_err *e) {
-    size_t n = pts->n, all = (size_t)nused * n;
+    size_t all = (size_t)nused * n;
     double *vt = sl_malloc((n + 1) * sizeof *vt), *vb = B ? sl_malloc((n + 1) * sizeof *vb) : NULL;
     double *st = sl_calloc(all + 1, sizeof *st), *sb = B ? sl_calloc(all + 1, sizeof *sb) : NULL;
     int rc = 0;
     for (int m = 0; m < r->nlights && !rc; m++) {
-        rc = sl_shadow_lookup_both(r->dev, &r->light[m], n, pts->pos, vt, vb, e);
+        rc = sl_shadow_lookup_both(r->dev, &r->light[m], n, pos, vt, vb, e);
         size_t o = (size_t)r->light_lobe[m] * n;
         for (size_t i = 0; !rc && i < n; i++) {
             st[o + i] += r->light_w[m] * vt[i];
@@ -95,7 +95,19 @@ int sl_pass_lookup(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     pts->out = sl_malloc((pts->n * SL_SHADE_FLOATS + 1) * sizeof *pts->out);
     /* T_j toward each lobe; with MS, the optical depth of the hair behind each point too (the
      * stack of the local backscattering, docs/volume.md) */
-    if (lobe_sums(r, pts, nused, &pts->T, r->ms_on ? &pts->B : NULL, e)) return -1;
+    if (lobe_sums(r, pts->n, pts->pos, nused, &pts->T, r->ms_on ? &pts->B : NULL, e)) return -1;
+    if (r->ms_on && r->have_vol && r->ftex.nlobes == nused) {
+        /* the same maps' optical depth at the march's vertices: the depth-guided T_f
+         * (sl_ftex_lookup_guided; once per light or march, a few thousand vertices) */
+        size_t nv = (size_t)r->ftex.m[0] * r->ftex.m[1] * r->ftex.m[2];
+        double *vp = sl_ftex_vertex_positions(&r->ftex);
+        float *vT = NULL;
+        int rc = lobe_sums(r, nv, vp, nused, &vT, NULL, e);
+        free(vp);
+        if (rc) return -1;
+        sl_ftex_set_tau(&r->ftex, vT);
+        free(vT);
+    }
     sl_frame_why(r, "transmittance of %zu shading points toward %d lobes%s", pts->n, nused,
                  r->ms_on ? ", and the hair behind them" : "");
     return 0;

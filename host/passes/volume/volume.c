@@ -303,11 +303,53 @@ void sl_ftex_lookup(const sl_ftex *f, int lobe, const double p[3], float T[3], f
     sl_ftex_lookup_at(f, lobe, &cn, T, sigma);
 }
 
+void sl_ftex_lookup_guided(const sl_ftex *f, int lobe, const sl_ftex_corners *cn, float tau_p,
+                           float T[3], float sigma[3]) {
+    sl_ftex_lookup_at(f, lobe, cn, T, sigma);
+    if (!f->tau || !f->logT) return;
+    size_t nvert = (size_t)f->m[0] * f->m[1] * f->m[2];
+    const float *tv = f->tau + (size_t)lobe * nvert;
+    const float *lt = f->logT + (size_t)lobe * nvert * SL_MARCH_CH;
+    float den = 0.0f, num[3] = {0.0f, 0.0f, 0.0f};
+    for (int k = 0; k < cn->n; k++) {
+        den += cn->w[k] * tv[cn->off[k] / SL_MARCH_CH];
+        for (int c = 0; c < SL_MARCH_CH; c++)
+            num[c] += cn->w[k] * lt[cn->off[k] + c];
+    }
+    if (!(den >= SL_FTEX_TAU_MIN)) return;
+    for (int c = 0; c < SL_MARCH_CH; c++) {
+        float k = sl_clampf(num[c] / den, -1.0f, 0.0f);
+        T[c] = (float)exp((double)(k * tau_p));
+    }
+}
+
+void sl_ftex_set_tau(sl_ftex *f, const float *Tj) {
+    size_t n = (size_t)f->nlobes * f->m[0] * f->m[1] * f->m[2];
+    free(f->tau);
+    f->tau = sl_malloc((n + 1) * sizeof *f->tau);
+    for (size_t i = 0; i < n; i++)
+        f->tau[i] = Tj[i] > 1e-30f ? -logf(Tj[i]) : 69.0f;
+}
+
+double *sl_ftex_vertex_positions(const sl_ftex *f) {
+    size_t n = (size_t)f->m[0] * f->m[1] * f->m[2], i = 0;
+    double *p = sl_malloc((3 * n + 1) * sizeof *p);
+    for (int z = 0; z < f->m[2]; z++)
+        for (int y = 0; y < f->m[1]; y++)
+            for (int x = 0; x < f->m[0]; x++, i++) {
+                p[3 * i + 0] = (double)f->lo[0] + (double)f->H * x;
+                p[3 * i + 1] = (double)f->lo[1] + (double)f->H * y;
+                p[3 * i + 2] = (double)f->lo[2] + (double)f->H * z;
+            }
+    return p;
+}
+
 void sl_ftex_free(sl_ftex *f) {
+    free(f->tau);
     free(f->T);
     free(f->sigma);
     free(f->logT);
     free(f->tilt2);
     free(f->dev2);
-    f->T = f->sigma = f->logT = f->tilt2 = f->dev2 = NULL;
+    f->T = f->sigma = f->logT = f->tilt2 = f->dev2 = f->tau = NULL;
 }

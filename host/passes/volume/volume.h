@@ -73,7 +73,10 @@ typedef struct sl_ftex {
     float *tilt2;     /* the same: the fibers' tilt the light crossed (kernels/march.h) */
     float *dev2;      /* m[0] m[1] m[2] * SL_MARCH_CH (equal): the fibers' dev^2 near the vertex */
     float *logT;      /* ln(max(T, 1e-30)) per texel (sl_ftex_lookup's log-space T_f), or NULL */
-    double seconds;   /* C time or device time of the march */
+    /* nlobes * m[0] m[1] m[2]: the deep opacity maps' optical depth -ln T_j at each vertex, or
+     * NULL (sl_ftex_set_tau; the depth-guided lookup, sl_ftex_lookup_guided) */
+    float *tau;
+    double seconds; /* C time or device time of the march */
 } sl_ftex;
 
 /* Marches every active vertex toward each of nlobes lobe centres (dirs: 3 doubles per lobe,
@@ -91,6 +94,26 @@ void sl_ftex_lookup_at(const sl_ftex *f, int lobe, const sl_ftex_corners *cn, fl
  * (lobe-independent; three equal values), both trilinear. */
 void sl_ftex_tilt_at(const sl_ftex *f, int lobe, const sl_ftex_corners *cn, float tilt2[3]);
 void sl_ftex_dev2_at(const sl_ftex *f, const sl_ftex_corners *cn, float dev2[3]);
+/* T_f of lobe at the corners cn of a point whose own optical depth toward the lobe (the deep
+ * opacity maps' -ln T_j, the same maps as sl_ftex_set_tau's) is tau_p, guided by that depth:
+ *     ln T_f(p) = tau_p k,   k = sum_v w_v ln T_f(v) / sum_v w_v tau_v,   clamped to [-1, 0]
+ * (k is the log attenuation per unit optical depth, -(1 - a_f) for Poisson crossings of fibers
+ * of forward albedo a_f: a property of the material and the fibers' angles, smooth in space,
+ * while T_f itself falls exponentially with depth). Vertices 4 voxels apart straddle the hair's
+ * surface, where the visible fibers are: interpolating ln T_f there gives a lit surface the
+ * T_f of the hair under it (docs/volume.md "Depth-guided T_f"). Where the corners hold almost
+ * no depth (sum w tau < SL_FTEX_TAU_MIN) or f->tau is NULL: sl_ftex_lookup_at's T_f. sigma_f as
+ * sl_ftex_lookup_at. */
+#define SL_FTEX_TAU_MIN 0.1f
+void sl_ftex_lookup_guided(const sl_ftex *f, int lobe, const sl_ftex_corners *cn, float tau_p,
+                           float T[3], float sigma[3]);
+/* Sets f->tau (replacing any): tau[lobe nvert + v] for every vertex v, from T_j (nlobes x nvert,
+ * the deep opacity maps' transmittance at the vertices lo + k H). The vertices not marched (their
+ * T_f = 1 is a placeholder) are never corners of a point in the hair: every corner of a cell
+ * with hair is marched (active_vertices). */
+void sl_ftex_set_tau(sl_ftex *f, const float *Tj);
+/* The vertex positions (3 doubles each, m[0] m[1] m[2] of them, x fastest), allocated. */
+double *sl_ftex_vertex_positions(const sl_ftex *f);
 void sl_ftex_free(sl_ftex *f);
 
 #endif

@@ -361,3 +361,55 @@ TEST(march_dynamic_threads_identical) {
     sl_ftex_free(&a);
     march_wavy_free(&w);
 }
+
+/* The depth-guided T_f lookup (sl_ftex_lookup_guided, docs/volume.md "Depth-guided T_f") on two
+ * vertices of a medium where T_f = exp(-(1 - a) tau) exactly (Poisson crossings of fibers of
+ * forward albedo a, per channel): a vertex outside the hair (tau 0, T_f 1) and one inside (tau
+ * 2). A point halfway between them whose own depth is tau_p = 0.3 (a fiber near the lit surface)
+ * gets exp(-(1 - a) 0.3) exactly; the log-space interpolation of sl_ftex_lookup_at gives the
+ * midpoint's exp(-(1 - a) 1.0), and it is what is left where the corners hold no depth or no
+ * depths were set. k is clamped to [-1, 0] (a texel darker than its depth allows). */
+TEST(ftex_lookup_depth_guided) {
+    const float a[3] = {0.9f, 0.6f, 0.2f};
+    sl_ftex f;
+    memset(&f, 0, sizeof f);
+    f.m[0] = 2, f.m[1] = 1, f.m[2] = 1, f.H = 1.0f, f.nlobes = 1;
+    f.T = calloc(2 * SL_MARCH_CH, sizeof(float));
+    f.sigma = calloc(2 * SL_MARCH_CH, sizeof(float));
+    f.logT = calloc(2 * SL_MARCH_CH, sizeof(float));
+    for (int c = 0; c < 3; c++) {
+        f.T[c] = 1.0f, f.T[SL_MARCH_CH + c] = expf(-(1.0f - a[c]) * 2.0f);
+        for (int v = 0; v < 2; v++)
+            f.logT[v * SL_MARCH_CH + c] = logf(f.T[v * SL_MARCH_CH + c]);
+    }
+    sl_ftex_corners cn;
+    double p[3] = {0.5, 0, 0};
+    sl_ftex_at(&f, p, &cn);
+    float T[3], S[3];
+    sl_ftex_lookup_guided(&f, 0, &cn, 0.3f, T, S); /* no depths yet: the log-space lookup */
+    for (int c = 0; c < 3; c++)
+        CHECK_NEAR(T[c], exp(-(1.0 - a[c]) * 1.0), 1e-6);
+    const float Tj[2] = {1.0f, expf(-2.0f)};
+    sl_ftex_set_tau(&f, Tj);
+    sl_ftex_lookup_guided(&f, 0, &cn, 0.3f, T, S);
+    for (int c = 0; c < 3; c++)
+        CHECK_NEAR(T[c], exp(-(1.0 - a[c]) * 0.3), 1e-6);
+    /* a point deeper than its corners on average: the same law */
+    sl_ftex_lookup_guided(&f, 0, &cn, 3.0f, T, S);
+    for (int c = 0; c < 3; c++)
+        CHECK_NEAR(T[c], exp(-(1.0 - a[c]) * 3.0), 1e-5);
+    /* corners with almost no depth (sum w tau 0.025 < SL_FTEX_TAU_MIN): the texels' log-space
+     * lookup, whatever tau_p */
+    const float out[2] = {1.0f, expf(-0.05f)};
+    sl_ftex_set_tau(&f, out);
+    sl_ftex_lookup_guided(&f, 0, &cn, 1.0f, T, S);
+    for (int c = 0; c < 3; c++)
+        CHECK_NEAR(T[c], exp(-(1.0 - a[c]) * 1.0), 1e-6);
+    /* a texel darker than e^-tau (k < -1) is clamped to k = -1 */
+    const float shallow[2] = {1.0f, expf(-0.5f)};
+    sl_ftex_set_tau(&f, shallow);
+    sl_ftex_lookup_guided(&f, 0, &cn, 1.0f, T, S);
+    CHECK_NEAR(T[2], exp(-1.0), 1e-6); /* k = -(1 - a) / 0.25 = -3.2 -> -1 */
+    CHECK_NEAR(T[0], exp(-(0.1 * 2.0 * 0.5) / (0.5 * 0.5)), 1e-6);
+    sl_ftex_free(&f);
+}
