@@ -24,6 +24,9 @@
  * 2 cores: 64 lobes 3.9 s, 256 lobes 203 s, so 512 about 25 minutes and 1024 hours), and the frame
  * draws one deep opacity map per lobe; files with more lobes (up to SL_LOBES_MAX) still load. */
 #define SL_FIT_LOBES_MAX 512
+/* The fitter's revision: part of the fitted-lobes cache key (host/scene/env_lighting.c), so a
+ * fit from an older fitter is not reused. 2: suns keep their exact power (envfit_sun.c). */
+#define SL_ENVFIT_REVISION 2
 
 typedef struct sl_envfit_settings {
     int lobes;           /* N >= 1; 0 = auto (grow until target_error is met) */

@@ -5,7 +5,7 @@
  * blender_exr/sunrise.exr: a sky lobe of 3x the map's total power, convolved error 0.60). So a
  * compact, very bright region is split off first: its pixels above the surrounding sky level
  * (the mean of a ring around it) form a sun image, fitted by one narrow lobe with the pixel model
- * of envfit_eval.c (which keeps the sun's power exact at any width); the sky image (the sun's
+ * of envfit_eval.c, its rgb then set to the sun's exact power; the sky image (the sun's
  * pixels set to the ring level) is fitted by the other lobes. Sun + sky = the map.
  * A sun: connected pixels of luminance > EFL_SUN_RATIO x the map's mean (solid-angle weighted)
  * luminance, within EFL_SUN_MAX_SR steradians, carrying >= EFL_SUN_MIN_SHARE of the power. */
@@ -137,6 +137,11 @@ int efl_split_suns(const sl_envmap *map, int max_suns, double lam_min, double la
         efl_lm_opts o = {80, 1e-9, lam_min, lam_max};
         efl_lm(&ev, S, 1, &o, NULL, NULL, 0, 0);
         lv.rgb = NULL;
+        /* The least-squares fit of a disc by a Gaussian does not keep its power (a sun disc
+         * of 2 deg radius: +13 %), and a fiber, far broader than the sun, sees only the power:
+         * the refined direction and width keep the sun image's exact power. */
+        for (int c = 0; c < 3; c++)
+            S->rgb[c] = P[c] / sl_lobe_integral(S->lambda);
         ns++;
     }
     free(mask);

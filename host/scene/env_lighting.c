@@ -87,7 +87,7 @@ int sl_scene_lobes(const sl_scene *s, int clamp_nonfinite, sl_lobes *out, sl_err
     /* Cache key: the decoded pixels' hash, the lobe count and the program version (a newer
      * fitter may fit better). The entry's payload is the lobes file text sl_lobes_save writes. */
     char dir[4096], path[4600] = "", what[64];
-    snprintf(what, sizeof what, "n%d-v%s", set.lobes, SL_VERSION);
+    snprintf(what, sizeof what, "n%d-v%s-f%d", set.lobes, SL_VERSION, SL_ENVFIT_REVISION);
     sl_cache_key key = {map.hash, sl_hash64(what, strlen(what), 0x4c4f424553ull)};
     if (sl_cache_dir_find(dir, sizeof dir))
         sl_cache_path(path, sizeof path, dir, "lobes", key, LOBES_FORMAT);
