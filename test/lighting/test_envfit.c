@@ -210,6 +210,17 @@ static double angle_deg(const double a[3], const double b[3]) {
     return acos(fmax(-1.0, fmin(1.0, c))) * 180 / M_PI;
 }
 
+/* The fitted lobe nearest to dir (index, or -1 when there is none) and its angle in *deg. */
+static int nearest_lobe(const sl_lobes *out, const double dir[3], double *deg) {
+    int best = -1;
+    *deg = 1e9;
+    for (int k = 0; k < out->count; k++) {
+        double a = angle_deg(dir, out->lobe[k].dir);
+        if (a < *deg) *deg = a, best = k;
+    }
+    return best;
+}
+
 TEST(envfit_recovers_known_lobes) {
     /* Six well separated lobes of different widths and colours plus a sun 5000 times brighter
      * than the sky and narrower than a pixel. */
@@ -241,15 +252,8 @@ TEST(envfit_recovers_known_lobes) {
     CHECK(rep.rel_l2 < 0.02);
     CHECK(rep.lobe_conv_rel_l2 < 0.02);
     for (int j = 0; j < 7; j++) {
-        int best = -1;
-        double ba = 1e9;
-        for (int k = 0; k < out.count; k++) {
-            double a = angle_deg(truth[j].dir, out.lobe[k].dir);
-            if (a < ba) {
-                ba = a;
-                best = k;
-            }
-        }
+        double ba;
+        int best = nearest_lobe(&out, truth[j].dir, &ba);
         CHECK_MSG(ba < 1.0, "lobe %d: nearest fitted lobe %.3f degrees away", j, ba);
         if (best < 0) continue;
         const sl_lobe *f = &out.lobe[best];
@@ -382,12 +386,8 @@ TEST(envfit_disc_sun_keeps_its_power) {
     sl_envfit_report rep;
     sl_err e;
     CHECK(sl_envfit(&m, &s, &out, &rep, &e) == 0);
-    int best = -1;
-    double ba = 1e9;
-    for (int k = 0; k < out.count; k++) {
-        double a = angle_deg(sd, out.lobe[k].dir);
-        if (a < ba) ba = a, best = k;
-    }
+    double ba;
+    int best = nearest_lobe(&out, sd, &ba);
     CHECK_MSG(ba < 0.5, "sun lobe %.3f degrees away", ba);
     if (best >= 0) {
         const sl_lobe *f = &out.lobe[best];
