@@ -51,6 +51,9 @@ struct sl_renderer {
     int have_vol; /* march textures (voxel grid, used lobes, material through dual) */
     sl_voxel_grid vgrid;
     sl_ftex ftex;
+    /* the light pass's key when ftex.tau (the maps' depth at the march's vertices) was set:
+     * ftex.tau follows the maps and the march, not the camera (run_shade.c) */
+    uint64_t tau_light_key;
     int have_vms; /* multiple-scattering response tables (material) */
     sl_volume_ms vms;
     /* the same at the per-strand sigma_a nodes, built with vms when strand_sigma_a is set

@@ -96,9 +96,11 @@ int sl_pass_lookup(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     /* T_j toward each lobe; with MS, the optical depth of the hair behind each point too (the
      * stack of the local backscattering, docs/volume.md) */
     if (lobe_sums(r, pts->n, pts->pos, nused, &pts->T, r->ms_on ? &pts->B : NULL, e)) return -1;
-    if (r->ms_on && r->have_vol && r->ftex.nlobes == nused) {
-        /* the same maps' optical depth at the march's vertices: the depth-guided T_f
-         * (sl_ftex_lookup_guided; once per light or march, a few thousand vertices) */
+    if (r->ms_on && r->have_vol && r->ftex.nlobes == nused &&
+        (!r->ftex.tau || r->tau_light_key != r->key[SL_PASSID_LIGHT])) {
+        /* the same maps' optical depth at the march's vertices, for the depth-guided T_f
+         * (sl_ftex_lookup_guided): once per new maps or march (a new march starts without
+         * it), not every frame of an orbit */
         size_t nv = (size_t)r->ftex.m[0] * r->ftex.m[1] * r->ftex.m[2];
         double *vp = sl_ftex_vertex_positions(&r->ftex);
         float *vT = NULL;
@@ -106,6 +108,7 @@ int sl_pass_lookup(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
         free(vp);
         if (rc) return -1;
         sl_ftex_set_tau(&r->ftex, vT);
+        r->tau_light_key = r->key[SL_PASSID_LIGHT];
         free(vT);
     }
     sl_frame_why(r, "transmittance of %zu shading points toward %d lobes%s", pts->n, nused,

@@ -293,7 +293,7 @@ static void accumulate(const shade_common *sc, rowbuf *b) {
         if (c->ms_on) {
             float Tf[3], sf[3], f[3] = {1.0f, 1.0f, 1.0f};
             if (cn_pt != i) sl_ftex_at(c->ftex, p->pos + 3 * i, &cn), cn_pt = i;
-            sl_ftex_lookup_guided(c->ftex, j, &cn, T > 1e-30f ? -logf(T) : 69.0f, Tf, sf);
+            sl_ftex_lookup_guided(c->ftex, j, &cn, sl_ftex_tau_of(T), Tf, sf);
             const float *x = b->in + 5 * k;
             const float *sa = sc->ssig && c->msn ? sc->ssig + 3 * (size_t)p->strand[i] : NULL;
             if (!(sa && (sa[0] != sc->msig[0] || sa[1] != sc->msig[1] || sa[2] != sc->msig[2])))

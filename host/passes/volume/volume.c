@@ -188,6 +188,14 @@ static void vertex_dev2(const sl_voxel_grid *g, int c, const int m[3], float *ou
             }
 }
 
+/* The world position of vertex id (x fastest): lo + k H, in double. */
+static void vertex_pos(const sl_ftex *f, size_t id, double p[3]) {
+    size_t idx[3] = {id % (size_t)f->m[0], id / (size_t)f->m[0] % (size_t)f->m[1],
+                     id / ((size_t)f->m[0] * f->m[1])};
+    for (int a = 0; a < 3; a++)
+        p[a] = (double)f->lo[a] + (double)idx[a] * f->H;
+}
+
 int sl_march_build(sl_device *dev, const sl_voxel_grid *g, const sl_dual_tables *dt, int nlobes,
                    const double *dirs, const sl_march_opts *o, sl_ftex *f, sl_err *e) {
     memset(f, 0, sizeof *f);
@@ -211,11 +219,10 @@ int sl_march_build(sl_device *dev, const sl_voxel_grid *g, const sl_dual_tables 
     f->active = na;
     float *verts = sl_malloc((na ? na : 1) * 3 * sizeof *verts);
     for (size_t v = 0; v < na; v++) {
-        size_t id = ids[v];
-        int idx[3] = {(int)(id % (size_t)f->m[0]), (int)(id / (size_t)f->m[0] % (size_t)f->m[1]),
-                      (int)(id / ((size_t)f->m[0] * f->m[1]))};
+        double p[3];
+        vertex_pos(f, ids[v], p);
         for (int a = 0; a < 3; a++)
-            verts[3 * v + a] = (float)((double)f->lo[a] + (double)idx[a] * f->H);
+            verts[3 * v + a] = (float)p[a];
     }
     float *fd = sl_malloc((nlobes ? nlobes : 1) * 3 * sizeof *fd);
     for (int l = 0; l < nlobes; l++) {
@@ -305,22 +312,26 @@ void sl_ftex_lookup(const sl_ftex *f, int lobe, const double p[3], float T[3], f
 
 void sl_ftex_lookup_guided(const sl_ftex *f, int lobe, const sl_ftex_corners *cn, float tau_p,
                            float T[3], float sigma[3]) {
-    sl_ftex_lookup_at(f, lobe, cn, T, sigma);
-    if (!f->tau || !f->logT) return;
+    if (!f->tau || !f->logT) {
+        sl_ftex_lookup_at(f, lobe, cn, T, sigma);
+        return;
+    }
     size_t nvert = (size_t)f->m[0] * f->m[1] * f->m[2];
     const float *tv = f->tau + (size_t)lobe * nvert;
     const float *lt = f->logT + (size_t)lobe * nvert * SL_MARCH_CH;
+    sl_ftex_sample_at(f->sigma + (size_t)lobe * nvert * SL_MARCH_CH, cn, 0, sigma);
+    /* num: sl_ftex_lookup_at's log-space sum (the same terms in the same order), den: the
+     * corners' depth */
     float den = 0.0f, num[3] = {0.0f, 0.0f, 0.0f};
     for (int k = 0; k < cn->n; k++) {
         den += cn->w[k] * tv[cn->off[k] / SL_MARCH_CH];
         for (int c = 0; c < SL_MARCH_CH; c++)
             num[c] += cn->w[k] * lt[cn->off[k] + c];
     }
-    if (!(den >= SL_FTEX_TAU_MIN)) return;
-    for (int c = 0; c < SL_MARCH_CH; c++) {
-        float k = sl_clampf(num[c] / den, -1.0f, 0.0f);
-        T[c] = (float)exp((double)(k * tau_p));
-    }
+    int guided = den >= SL_FTEX_TAU_MIN;
+    for (int c = 0; c < SL_MARCH_CH; c++)
+        T[c] = (float)exp(guided ? (double)(sl_clampf(num[c] / den, -1.0f, 0.0f) * tau_p)
+                                 : (double)num[c]);
 }
 
 void sl_ftex_set_tau(sl_ftex *f, const float *Tj) {
@@ -328,19 +339,14 @@ void sl_ftex_set_tau(sl_ftex *f, const float *Tj) {
     free(f->tau);
     f->tau = sl_malloc((n + 1) * sizeof *f->tau);
     for (size_t i = 0; i < n; i++)
-        f->tau[i] = Tj[i] > 1e-30f ? -logf(Tj[i]) : 69.0f;
+        f->tau[i] = sl_ftex_tau_of(Tj[i]);
 }
 
 double *sl_ftex_vertex_positions(const sl_ftex *f) {
-    size_t n = (size_t)f->m[0] * f->m[1] * f->m[2], i = 0;
+    size_t n = (size_t)f->m[0] * f->m[1] * f->m[2];
     double *p = sl_malloc((3 * n + 1) * sizeof *p);
-    for (int z = 0; z < f->m[2]; z++)
-        for (int y = 0; y < f->m[1]; y++)
-            for (int x = 0; x < f->m[0]; x++, i++) {
-                p[3 * i + 0] = (double)f->lo[0] + (double)f->H * x;
-                p[3 * i + 1] = (double)f->lo[1] + (double)f->H * y;
-                p[3 * i + 2] = (double)f->lo[2] + (double)f->H * z;
-            }
+    for (size_t i = 0; i < n; i++)
+        vertex_pos(f, i, p + 3 * i);
     return p;
 }
 

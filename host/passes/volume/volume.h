@@ -24,6 +24,7 @@
 #include "io/hair/hair.h"
 #include "march.h" /* sl_ftex_corners */
 
+#include <math.h>
 #include <stdint.h>
 
 typedef struct sl_voxel_grid {
@@ -105,6 +106,11 @@ void sl_ftex_dev2_at(const sl_ftex *f, const sl_ftex_corners *cn, float dev2[3])
  * no depth (sum w tau < SL_FTEX_TAU_MIN) or f->tau is NULL: sl_ftex_lookup_at's T_f. sigma_f as
  * sl_ftex_lookup_at. */
 #define SL_FTEX_TAU_MIN 0.1f
+/* The optical depth -ln T of a transmittance (69, T ~ 1e-30, below that): tau_p of
+ * sl_ftex_lookup_guided and the vertices' depths of sl_ftex_set_tau, one conversion for both. */
+static inline float sl_ftex_tau_of(float T) {
+    return T > 1e-30f ? -logf(T) : 69.0f;
+}
 void sl_ftex_lookup_guided(const sl_ftex *f, int lobe, const sl_ftex_corners *cn, float tau_p,
                            float T[3], float sigma[3]);
 /* Sets f->tau (replacing any): tau[lobe nvert + v] for every vertex v, from T_j (nlobes x nvert,
