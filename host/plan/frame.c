@@ -274,9 +274,10 @@ void sl_frame_estimate(const sl_scene *s, int shadow_size_opt, sl_frame_need *n)
     double vox =
         s->voxels > 0 ? (double)s->voxels * s->voxels * s->voxels * 4.0 * SL_VOX_FIELDS : 0.0;
     /* the march's textures (sl_ftex): per shaded lobe and coarse vertex (every 4 voxels)
-     * SL_MARCH_CH floats each of T_f, ln T_f, sigma_f and tilt2, and the per-vertex dev^2 */
+     * SL_MARCH_CH floats each of T_f, ln T_f, sigma_f and tilt2 and one of the maps' depth tau,
+     * and the per-vertex dev^2 */
     double mv = s->voxels > 0 ? s->voxels / 4.0 + 2.0 : 0.0;
-    vox += mv * mv * mv * 4.0 * SL_MARCH_CH * (4.0 * nshade + 1.0);
+    vox += mv * mv * mv * 4.0 * ((4.0 * SL_MARCH_CH + 1.0) * nshade + SL_MARCH_CH);
     n->host = fbuf + view + outs + points + shadow + vox;
     n->largest = kbuf, n->largest_what = "K-buffer",
     n->setting = "image.width/height or quality.oit_layers";

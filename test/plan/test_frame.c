@@ -693,11 +693,12 @@ TEST(frame_estimate_matches_sizes) {
      * ceil(4 pi (0.5 / w)^2) sub-lobes of quality.sublobe_width w (35 at the default 0.3, 51 at
      * 0.25) maps and as many lobes shaded (a T float per lobe per point) instead of 2 maps and
      * 1 lobe: the scene's width, not the finest one. Per lobe shaded: T and B per point, and the
-     * march's four textures on (4 / 4 + 2)^3 coarse vertices of 3 floats. */
+     * march's four textures of 3 floats and the maps' depth tau (1 float) on (4 / 4 + 2)^3
+     * coarse vertices. */
     s.broad_lobes = SL_BROAD_SUBDIVIDE;
     s.sublobe_width = 0.3;
     double d = (double)sl_frame_estimate_bytes(&s, 0);
-    const double per_lobe = 5000.0 * 8 * 8 + 27.0 * 4 * 3 * 4;
+    const double per_lobe = 5000.0 * 8 * 8 + 27.0 * 4 * (3 * 4 + 1);
     CHECK_NEAR(d - c, (36.0 - 2.0) * 32 * 32 * (4 + 8 * 4) + per_lobe * (36 - 1), 0.5);
     s.sublobe_width = 0.25;
     d = (double)sl_frame_estimate_bytes(&s, 0);
