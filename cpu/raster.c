@@ -385,14 +385,23 @@ void slc_raster_layers_texel(const float *recs, size_t nseg, int w, int h, unsig
     layers_run(recs, nseg, w, h, K, d, z0bits, bins, 1);
 }
 
-void slc_raster_z0_dilate(uint32_t *z0bits, int w, int h, int m, uint32_t *tmp) {
-    if (m <= 0) return;
+void slc_raster_z0_dilate(uint32_t *z0bits, int w, int h, int m, float frac, uint32_t *tmp,
+                          uint32_t *tmp2) {
+    if (m < 0) m = 0;
+    const int blend = frac > 0.0f;
+    if (m == 0 && !blend) return;
     for (int y = 0; y < h; y++)
-        for (int x = 0; x < w; x++)
+        for (int x = 0; x < w; x++) {
             tmp[(size_t)y * w + x] = sl_raster_z0_window(z0bits, w, h, x, y, m, 1);
+            if (blend) tmp2[(size_t)y * w + x] = sl_raster_z0_window(z0bits, w, h, x, y, m + 1, 1);
+        }
     for (int y = 0; y < h; y++)
-        for (int x = 0; x < w; x++)
-            z0bits[(size_t)y * w + x] = sl_raster_z0_window(tmp, w, h, x, y, m, 0);
+        for (int x = 0; x < w; x++) {
+            const sl_uint a = sl_raster_z0_window(tmp, w, h, x, y, m, 0);
+            z0bits[(size_t)y * w + x] =
+                blend ? sl_raster_z0_blend(a, sl_raster_z0_window(tmp2, w, h, x, y, m + 1, 0), frac)
+                      : a;
+        }
 }
 
 void slc_raster_project(const float *pos, const uint32_t *seg, const float *hw, const float *views,

@@ -22,8 +22,11 @@ void slc_raster_project(const float *pos, const uint32_t *seg, const float *hw, 
  * texel t, SL_RASTER_Z_EMPTY (+inf) where none. Fills z0bits itself. */
 void slc_raster_z0(const float *recs, size_t nseg, int w, int h, uint32_t *z0bits);
 /* Between the passes: z0bits becomes its minimum over the (2m + 1)^2 window around every texel
- * (kernels/raster.h: sl_raster_z0_window; m <= 0: unchanged). tmp: w * h scratch values. */
-void slc_raster_z0_dilate(uint32_t *z0bits, int w, int h, int m, uint32_t *tmp);
+ * (kernels/raster.h: sl_raster_z0_window), or with frac > 0 that minimum blended toward the one
+ * over (2m + 3)^2 (sl_raster_z0_blend: a window of half-size m + frac). m <= 0 and frac 0:
+ * unchanged. tmp: w * h scratch values; tmp2 too when frac > 0 (else unused, may be NULL). */
+void slc_raster_z0_dilate(uint32_t *z0bits, int w, int h, int m, float frac, uint32_t *tmp,
+                          uint32_t *tmp2);
 /* Pass 2: bins[k * w * h + t] = the fixed-point shares landing in texel t at a depth offset
  * (z - z0) inside layer k (kernels/raster.h: sl_raster_layer). Zeroes bins (K planes) itself. */
 void slc_raster_layers(const float *recs, size_t nseg, int w, int h, unsigned K, float d,

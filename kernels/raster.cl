@@ -52,6 +52,20 @@ __kernel void sl_raster_z0_min(__global const uint *src, __global uint *dst, int
     dst[t] = sl_raster_z0_window(src + base, w, h, x, y, m, dx);
 }
 
+/* The column pass of a fractional window m + frac (sl_raster_z0_blend): dst[t] = the minimum of
+ * rows_m over the texels within m along y, blended toward that of rows_m1 (the row pass at
+ * m + 1) within m + 1. */
+__kernel void sl_raster_z0_min_blend(__global const uint *rows_m, __global const uint *rows_m1,
+                                     __global uint *dst, int w, int h, uint nl, int m,
+                                     float frac) {
+    const size_t t = get_global_id(0), plane = (size_t)w * h;
+    if (t >= plane * nl) return;
+    const size_t base = t - t % plane;
+    const int x = (int)(t % plane % (size_t)w), y = (int)(t % plane / (size_t)w);
+    dst[t] = sl_raster_z0_blend(sl_raster_z0_window(rows_m + base, w, h, x, y, m, 0),
+                                sl_raster_z0_window(rows_m1 + base, w, h, x, y, m + 1, 0), frac);
+}
+
 /* Work-item g = l * nseg + s: record s of lobe l (first layer depth d[l]) into planes
  * l K .. l K + K - 1 of bins against plane l of z0bits. */
 __kernel void sl_raster_layers(__global const float *recs, uint nseg, uint nl, int w, int h, uint K,

@@ -21,6 +21,10 @@
 
 #include "sl_compat.h"
 
+#if !SL_OPENCL
+#include <string.h>
+#endif
+
 /* Record layout (floats): first sample x, y, z; step along x, y, z; step across x, y; mass per
  * sample (fixed-point units, before the tent weights); na; nw (small integers stored exactly);
  * one pad float. */
@@ -149,6 +153,27 @@ SL_INLINE sl_uint sl_raster_z0_window(const SL_GLOBAL sl_uint *z0bits, sl_int w,
         v = q < v ? q : v;
     }
     return v;
+}
+
+/* The first depth over a window of fractional half-size m + frac (0 <= frac < 1): a = the
+ * minimum over the window of half-size m, b = over m + 1 (b <= a), interpolated linearly in
+ * depth, so the window's width follows the fibers' width in texels continuously instead of in
+ * steps of two texels (docs/shadow.md, "A window of constant width in fibers"). An empty a (no
+ * hair within m) takes b. Same float operations in C and OpenCL. */
+SL_INLINE sl_uint sl_raster_z0_blend(sl_uint a, sl_uint b, float frac) {
+    if (a == SL_RASTER_Z_EMPTY || !(frac > 0.0f)) return a == SL_RASTER_Z_EMPTY ? b : a;
+#if SL_OPENCL
+    const float za = as_float(a), zb = as_float(b);
+    return as_uint(za + frac * (zb - za));
+#else
+    float za, zb, z;
+    memcpy(&za, &a, sizeof za);
+    memcpy(&zb, &b, sizeof zb);
+    z = za + frac * (zb - za);
+    sl_uint r;
+    memcpy(&r, &z, sizeof r);
+    return r;
+#endif
 }
 
 #endif

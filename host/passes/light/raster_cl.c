@@ -55,9 +55,31 @@ static int z0_min(sl_cl *cl, cl_mem src, cl_mem dst, int w, int h, unsigned nl, 
     return sl_cl_run1d(cl, k, "raster: sl_raster_z0_min", (size_t)w * h * nl, LOCAL, timer, e);
 }
 
+/* z0bits = the column pass of the fractional window over the row passes rows_m and rows_m1. */
+static int z0_min_blend(sl_cl *cl, cl_mem rows_m, cl_mem rows_m1, cl_mem z0bits, int w, int h,
+                        unsigned nl, int m, float frac, sl_cl_timer *timer, sl_err *e) {
+    cl_kernel k;
+    int rc;
+    if ((rc = sl_cl_get_kernel(cl, RASTER_FILE, "sl_raster_z0_min_blend", RASTER_OPTS, &k, e)))
+        return rc;
+    cl_uint l = nl;
+    sl_cl_args a = sl_cl_args_begin(k, e);
+    SL_CL_ARG(&a, 0, rows_m);
+    SL_CL_ARG(&a, 1, rows_m1);
+    SL_CL_ARG(&a, 2, z0bits);
+    SL_CL_ARG(&a, 3, w);
+    SL_CL_ARG(&a, 4, h);
+    SL_CL_ARG(&a, 5, l);
+    SL_CL_ARG(&a, 6, m);
+    SL_CL_ARG(&a, 7, frac);
+    if (sl_cl_args_end(&a)) return -1;
+    return sl_cl_run1d(cl, k, "raster: sl_raster_z0_min_blend", (size_t)w * h * nl, LOCAL, timer,
+                       e);
+}
+
 int slcl_raster_buf(sl_cl *cl, cl_mem recs, size_t nseg, unsigned nl, int w, int h, unsigned K,
-                    cl_mem d, int z0_radius, cl_mem z0bits, cl_mem bins, sl_cl_timer *timer,
-                    sl_err *e) {
+                    cl_mem d, int z0_radius, float z0_frac, cl_mem z0bits, cl_mem bins,
+                    sl_cl_timer *timer, sl_err *e) {
     cl_kernel kz, kl;
     int rc;
     if ((rc = sl_cl_get_kernel(cl, RASTER_FILE, "sl_raster_z0", RASTER_OPTS, &kz, e))) return rc;
@@ -90,7 +112,22 @@ int slcl_raster_buf(sl_cl *cl, cl_mem recs, size_t nseg, unsigned nl, int w, int
     SL_CL_ARG(&a, 5, z0bits);
     if (sl_cl_args_end(&a)) return -1;
     if (sl_cl_run1d(cl, kz, "raster: sl_raster_z0", nseg * nl, LOCAL, timer, e)) return -1;
-    if (z0_radius > 0) { /* rows into a scratch buffer, columns back into z0bits */
+    if (z0_frac > 0.0f) { /* rows at m and m + 1 into scratch buffers, blended columns back */
+        cl_int err, err2;
+        const int m = z0_radius > 0 ? z0_radius : 0;
+        cl_mem tmp = clCreateBuffer(sl_cl_context(cl), CL_MEM_READ_WRITE,
+                                    nl * plane * sizeof(cl_uint), NULL, &err);
+        cl_mem tmp2 = clCreateBuffer(sl_cl_context(cl), CL_MEM_READ_WRITE,
+                                     nl * plane * sizeof(cl_uint), NULL, &err2);
+        rc = sl_cl_check(err, "raster: clCreateBuffer(z0 scratch)", e) ||
+             sl_cl_check(err2, "raster: clCreateBuffer(z0 scratch)", e);
+        if (!rc) rc = z0_min(cl, z0bits, tmp, w, h, nl, m, 1, timer, e);
+        if (!rc) rc = z0_min(cl, z0bits, tmp2, w, h, nl, m + 1, 1, timer, e);
+        if (!rc) rc = z0_min_blend(cl, tmp, tmp2, z0bits, w, h, nl, m, z0_frac, timer, e);
+        if (tmp) clReleaseMemObject(tmp); /* freed once the queued kernels have finished */
+        if (tmp2) clReleaseMemObject(tmp2);
+        if (rc) return rc;
+    } else if (z0_radius > 0) { /* rows into a scratch buffer, columns back into z0bits */
         cl_int err;
         cl_mem tmp = clCreateBuffer(sl_cl_context(cl), CL_MEM_READ_WRITE,
                                     nl * plane * sizeof(cl_uint), NULL, &err);
@@ -115,7 +152,8 @@ int slcl_raster_buf(sl_cl *cl, cl_mem recs, size_t nseg, unsigned nl, int w, int
 }
 
 int slcl_raster(sl_cl *cl, const float *recs, size_t nseg, int w, int h, unsigned K, float d,
-                int z0_radius, uint32_t *z0bits, uint64_t *bins, double *kernel_s, sl_err *e) {
+                int z0_radius, float z0_frac, uint32_t *z0bits, uint64_t *bins, double *kernel_s,
+                sl_err *e) {
     cl_context ctx = sl_cl_context(cl);
     const size_t plane = (size_t)w * h;
     cl_int err;
@@ -133,7 +171,7 @@ int slcl_raster(sl_cl *cl, const float *recs, size_t nseg, int w, int h, unsigne
     if (sl_cl_check(err, "raster: clCreateBuffer(layers)", e)) goto done;
     sl_cl_timer t;
     sl_cl_timer_start(&t, cl);
-    rc = slcl_raster_buf(cl, br, nseg, 1, w, h, K, bd, z0_radius, bz, bb, &t, e);
+    rc = slcl_raster_buf(cl, br, nseg, 1, w, h, K, bd, z0_radius, z0_frac, bz, bb, &t, e);
     double s = sl_cl_timer_stop(&t, NULL);
     if (kernel_s) *kernel_s = s;
     if (rc) goto done;

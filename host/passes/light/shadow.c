@@ -26,9 +26,15 @@ void sl_shadow_opts_default(sl_shadow_opts *o) {
     o->threads = 0;
 }
 
-/* The automatic z0 window: its width (2 m + 2 texels with the tent footprint) spans
- * SL_SHADOW_Z0_FIBERS widened fibers of the hair's mean radius. */
-static int auto_z0_radius(const sl_hair *h, double kappa, double texel, double fibers) {
+/* The automatic z0 window: its width (2 (m + frac) + 2 texels with the tent footprint) spans
+ * `fibers` widened fibers of the hair's mean radius. The fractional part blends the windows m
+ * and m + 1 (kernels/raster.h: sl_raster_z0_blend), so the window follows the fibers' width in
+ * texels continuously; before session 14 it was rounded up to whole texels, which could widen
+ * it by up to two texels (the wavy report hair at 1024^2: half-size 2 for 1.007 wanted). Where
+ * the tent footprint alone is wider than `fibers` (most hair at 256^2), nothing changes
+ * (docs/shadow.md, "A window of constant width in fibers"). */
+static int auto_z0_radius(const sl_hair *h, double kappa, double texel, double fibers,
+                          float *frac) {
     double r = h->default_radius;
     if (h->radius && h->num_points) {
         double s = 0;
@@ -36,9 +42,13 @@ static int auto_z0_radius(const sl_hair *h, double kappa, double texel, double f
             s += h->radius[i];
         r = s / h->num_points;
     }
-    double m = ceil((fibers * 2.0 * r / kappa / texel - 2.0) / 2.0);
-    if (!(m > 0)) return 0;
-    return m > SL_SHADOW_Z0_MAX_RADIUS ? SL_SHADOW_Z0_MAX_RADIUS : (int)m;
+    const double x = (fibers * 2.0 * r / kappa / texel - 2.0) / 2.0; /* half-size, texels */
+    *frac = 0.0f;
+    if (!(x > 0)) return 0; /* the tent footprint alone is wider */
+    if (x >= SL_SHADOW_Z0_MAX_RADIUS) return SL_SHADOW_Z0_MAX_RADIUS;
+    const double m = floor(x);
+    *frac = (float)(x - m);
+    return (int)m;
 }
 
 double sl_shadow_lobe_support(double lambda) {
@@ -161,12 +171,13 @@ static int prep_make(const sl_hair *h, const sl_shadow_opts *o, prep *p, sl_err 
     int ex = total > 0 ? (int)floor(log2(ldexp(1.0, 60) / total)) : 0;
     if (ex > 100) ex = 100;
     p->scale = ldexp(1.0, ex);
+    p->z0_frac = 0.0f;
     p->z0_radius =
         o->z0_radius < 0 ? 0
         : o->z0_radius > 0
             ? (o->z0_radius > SL_SHADOW_Z0_MAX_RADIUS ? SL_SHADOW_Z0_MAX_RADIUS : o->z0_radius)
             : auto_z0_radius(h, o->kappa, v.texel,
-                             o->z0_fibers > 0 ? o->z0_fibers : SL_SHADOW_Z0_FIBERS);
+                             o->z0_fibers > 0 ? o->z0_fibers : SL_SHADOW_Z0_FIBERS, &p->z0_frac);
     p->threads = o->threads;
     if (p->threads <= 0) {
         p->threads = sl_parallel_cpus();
@@ -188,6 +199,7 @@ static int lobe_setup(const sl_hair *h, const prep *p, const sl_shadow_opts *o, 
     sl_light_view_setup(&m->view, dir, p->lo, p->hi, p->margin, o->size);
     m->K = (unsigned)o->layers;
     m->z0_radius = p->z0_radius;
+    m->z0_frac = p->z0_frac;
     m->scale = p->scale;
     m->inv_scale = (float)(1.0 / p->scale);
     m->segments = p->nseg;
@@ -304,11 +316,11 @@ static void rjobs_run(rjob *job, int nt) {
 }
 
 /* One worker's scratch for the lobe-parallel C path: a lobe's records, its layers (texel-major)
- * and the window filter's plane. */
+ * and the window filter's two planes. */
 typedef struct lscratch {
     float *recs;
     uint64_t *bins;
-    uint32_t *tmp;
+    uint32_t *tmp, *tmp2;
 } lscratch;
 
 typedef struct lctx {
@@ -341,7 +353,7 @@ static void lobe_run(void *arg, size_t begin, size_t end, int worker) {
                                   (sl_uint)p->nseg, 0, (sl_uint)s, (float)p->scale, sc->recs);
         const double t1 = sl_now();
         slc_raster_z0(sc->recs, p->nseg, w, hh, z0);
-        slc_raster_z0_dilate(z0, w, hh, p->z0_radius, sc->tmp);
+        slc_raster_z0_dilate(z0, w, hh, p->z0_radius, p->z0_frac, sc->tmp, sc->tmp2);
         slc_raster_layers_texel(sc->recs, p->nseg, w, hh, K, g->params[l * SL_DODM_PARAMS], z0,
                                 sc->bins);
         const double t2 = sl_now();
@@ -369,6 +381,7 @@ static void build_c_lobes(const sl_hair *h, const prep *p, sl_shadow_batch *b, i
         sc[t].recs = sl_malloc((p->nseg ? p->nseg : 1) * SL_RASTER_REC * sizeof *sc[t].recs);
         sc[t].bins = sl_malloc(K * plane * sizeof *sc[t].bins);
         sc[t].tmp = sl_malloc(plane * sizeof *sc[t].tmp);
+        sc[t].tmp2 = sl_malloc(plane * sizeof *sc[t].tmp2);
     }
     for (int gi = 0; gi < b->ngroups; gi++) {
         struct sl_shadow_group *g = &b->group[gi];
@@ -388,6 +401,7 @@ static void build_c_lobes(const sl_hair *h, const prep *p, sl_shadow_batch *b, i
         free(sc[t].recs);
         free(sc[t].bins);
         free(sc[t].tmp);
+        free(sc[t].tmp2);
     }
 }
 
@@ -408,7 +422,7 @@ static void build_c(const sl_hair *h, const prep *p, sl_shadow_batch *b) {
         return;
     }
     float *recs = sl_malloc((p->nseg ? p->nseg : 1) * SL_RASTER_REC * sizeof *recs);
-    uint32_t *tmp = sl_malloc(plane * sizeof *tmp);
+    uint32_t *tmp = sl_malloc(plane * sizeof *tmp), *tmp2 = sl_malloc(plane * sizeof *tmp2);
     /* planes of threads 1 .. nt - 1 */
     uint32_t *xz0 = nt > 1 ? sl_malloc((size_t)(nt - 1) * plane * sizeof *xz0) : NULL;
     uint64_t *xbins = nt > 1 ? sl_malloc((size_t)(nt - 1) * K * plane * sizeof *xbins) : NULL;
@@ -449,7 +463,7 @@ static void build_c(const sl_hair *h, const prep *p, sl_shadow_batch *b) {
                 for (size_t i = 0; i < plane; i++)
                     z0[i] = q[i] < z0[i] ? q[i] : z0[i];
             }
-            slc_raster_z0_dilate(z0, w, hh, p->z0_radius, tmp);
+            slc_raster_z0_dilate(z0, w, hh, p->z0_radius, p->z0_frac, tmp, tmp2);
             for (int t = 0; t < nt; t++)
                 job[t].step = 2;
             rjobs_run(job, nt);
@@ -471,6 +485,7 @@ static void build_c(const sl_hair *h, const prep *p, sl_shadow_batch *b) {
     }
     free(recs);
     free(tmp);
+    free(tmp2);
     free(xz0);
     free(xbins);
 }

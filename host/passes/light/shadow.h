@@ -52,7 +52,9 @@
  * pulls a surface fiber's first depth forward to neighbours that do not shadow it (on
  * straight.hair an oblique lobe's T was 0.345x the traced value at 300 fiber points; with 3
  * fibers 0.85x, the narrow lobe 0.89x -> 1.05x, wavy hair 0.92-0.95x -> 0.98-1.03x). Points
- * between fibers (a slab's interior, eval transmittance) keep the 30 (docs/shadow.md). */
+ * between fibers (a slab's interior, eval transmittance) keep the 30 (docs/shadow.md). Wider
+ * windows for shading points were measured in session 14 and not taken (docs/shadow.md, "A
+ * window of constant width in fibers": the references disagree on the best width). */
 #define SL_SHADOW_Z0_FIBERS_SHADING 3.0
 
 typedef struct sl_shadow_opts {
@@ -88,6 +90,7 @@ typedef struct sl_dodm {
     float inv_scale; /* fixed point -> optical depth */
     double scale;
     int z0_radius;             /* the min filter used on z0 (texels; 0 = none) */
+    float z0_frac;             /* and its fractional part (kernels/raster.h: sl_raster_z0_blend) */
     uint32_t *z0bits;          /* w * h */
     uint64_t *sat;             /* K * w * h */
     size_t segments, samples;  /* rasterized (after simplification); samples: C path only */

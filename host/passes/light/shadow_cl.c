@@ -73,8 +73,8 @@ int slcl_shadow_build(sl_cl *cl, const sl_hair *h, const prep *p, sl_shadow_batc
         b->project_s += sl_cl_timer_stop(&t, NULL);
         if (rc) goto done;
         sl_cl_timer_start(&t, cl);
-        rc = slcl_raster_buf(cl, brec, p->nseg, g->nl, w, hh, K, bd, p->z0_radius, g->bz, g->bs, &t,
-                             e);
+        rc = slcl_raster_buf(cl, brec, p->nseg, g->nl, w, hh, K, bd, p->z0_radius, p->z0_frac,
+                             g->bz, g->bs, &t, e);
         b->raster_s += sl_cl_timer_stop(&t, NULL);
         if (rc) goto done;
         sl_cl_timer_start(&t, cl);
@@ -106,8 +106,8 @@ int slcl_shadow_lookup(const sl_shadow_batch *b, size_t n, const float *pts, con
     if (sl_cl_check(err, "shadow: clCreateBuffer(T)", e)) goto done;
     for (int gi = 0; gi < b->ngroups; gi++) {
         const struct sl_shadow_group *g = &b->group[gi];
-        if (slcl_dodm_lookup_lobes_buf(cl, g->bz, g->bs, w, hh, K, g->bparams, g->bviews, bp,
-                                       bl, n, g->nl, g->l0, (size_t)b->n, bt, NULL, e))
+        if (slcl_dodm_lookup_lobes_buf(cl, g->bz, g->bs, w, hh, K, g->bparams, g->bviews, bp, bl, n,
+                                       g->nl, g->l0, (size_t)b->n, bt, NULL, e))
             goto done;
     }
     if (sl_cl_check(clEnqueueReadBuffer(sl_cl_queue(cl), bt, CL_TRUE, 0, nout * sizeof *t, t, 0,

@@ -16,6 +16,7 @@ typedef struct prep {
     size_t nseg;
     double scale, texel;
     int z0_radius;
+    float z0_frac; /* the window's fractional half-size beyond z0_radius (automatic window) */
     float lo[3], hi[3];
     double margin;
     int threads; /* C path */

@@ -321,7 +321,7 @@ TEST(shadow_slab_behind) {
  * isolates this one. The expected value is the realization's own: tau = 2 r N / 3 with N the
  * fibers above depth d with |y| <= 1.5 (the mean over y of the fibers' coverage; counted here in
  * double from the slab, independent of the code), so the slab's Poisson noise cancels. With the
- * automatic window (13 texels) exp(-mean tau) must be within 0.015 of that at d = 0.1 and 0.3
+ * automatic window (12.4 texels) exp(-mean tau) must be within 0.015 of that at d = 0.1 and 0.3
  * (400 points sample the box averages: ~2 % of tau, 0.008 in T; the residual offset ~1 / (30 + 1)
  * of a fiber, 0.005); without the window the same quantity is off by > 0.03 at d = 0.1 (measured
  * 0.06), which shows the window is what closes the gap. */
@@ -350,7 +350,11 @@ TEST(shadow_slab_z0_window) {
             sl_dodm m;
             double dir[3] = {0, 0, 1};
             CHECK(sl_shadow_build(&dev, &h, dir, 0.05, &o, &m, &e) == 0);
-            if (w == 0) CHECK(m.z0_radius == 13); /* ceil((30 * 0.01 / texel - 2) / 2) */
+            if (w == 0) { /* half-size (30 fibers * 2 r / texel - 2) / 2 = 12.4: 12 + 0.4 */
+                double x = (SL_SHADOW_Z0_FIBERS * 2 * SLAB_R / m.view.texel - 2) / 2;
+                CHECK(m.z0_radius == (int)floor(x));
+                CHECK_NEAR(m.z0_radius + m.z0_frac, x, 1e-5);
+            }
             for (int k = 0; k < 2; k++) {
                 double xyz[3 * 400], T[400];
                 uint64_t s = 5;
@@ -424,32 +428,62 @@ TEST(shadow_slab_window_table) {
     sl_device_close(&dev);
 }
 
+/* The brute-force minimum of the bits over the square of half-size m around (x, y). */
+static uint32_t z0_square_min(const uint32_t *a, int w, int h, int x, int y, int m) {
+    uint32_t v = SL_RASTER_Z_EMPTY;
+    for (int yy = y - m; yy <= y + m; yy++)
+        for (int xx = x - m; xx <= x + m; xx++)
+            if (xx >= 0 && yy >= 0 && xx < w && yy < h && a[yy * w + xx] < v) v = a[yy * w + xx];
+    return v;
+}
+
 /* The window itself against a brute-force minimum (independent loop over the whole square):
- * random z0 bits with empty texels, odd map sizes, windows larger than the map. */
+ * random z0 bits with empty texels, odd map sizes, windows larger than the map; and the
+ * fractional window m + frac: the depths of the squares m and m + 1 interpolated in double
+ * (within one float rounding of the float blend), an empty square m taking m + 1's, frac 0 the
+ * square m exactly. */
 TEST(shadow_z0_dilate_brute) {
-    const int sizes[][3] = {{7, 5, 1}, {16, 9, 3}, {5, 5, 9}};
+    const int sizes[][3] = {{7, 5, 1}, {16, 9, 3}, {5, 5, 9}, {9, 8, 0}};
+    const float fracs[] = {0.0f, 0.25f, 0.9f};
     uint64_t s = 3;
-    for (int c = 0; c < 3; c++) {
-        int w = sizes[c][0], h = sizes[c][1], m = sizes[c][2];
-        uint32_t *a = malloc((size_t)w * h * 4), *b = malloc((size_t)w * h * 4),
-                 *t = malloc((size_t)w * h * 4);
-        for (int i = 0; i < w * h; i++)
-            a[i] = urand(&s) < 0.3 ? SL_RASTER_Z_EMPTY : (uint32_t)(urand(&s) * 0x7f000000u);
-        memcpy(b, a, (size_t)w * h * 4);
-        slc_raster_z0_dilate(b, w, h, m, t);
-        for (int y = 0; y < h; y++)
-            for (int x = 0; x < w; x++) {
-                uint32_t v = SL_RASTER_Z_EMPTY;
-                for (int yy = y - m; yy <= y + m; yy++)
-                    for (int xx = x - m; xx <= x + m; xx++)
-                        if (xx >= 0 && yy >= 0 && xx < w && yy < h && a[yy * w + xx] < v)
-                            v = a[yy * w + xx];
-                CHECK(b[y * w + x] == v);
-            }
-        free(a);
-        free(b);
-        free(t);
-    }
+    for (int c = 0; c < 4; c++)
+        for (int fi = 0; fi < 3; fi++) {
+            int w = sizes[c][0], h = sizes[c][1], m = sizes[c][2];
+            float frac = fracs[fi];
+            uint32_t *a = malloc((size_t)w * h * 4), *b = malloc((size_t)w * h * 4),
+                     *t = malloc((size_t)w * h * 4), *t2 = malloc((size_t)w * h * 4);
+            for (int i = 0; i < w * h; i++) /* depths 0 .. 1e3 as float bits, 30 % empty */
+                if (urand(&s) < 0.3) {
+                    a[i] = SL_RASTER_Z_EMPTY;
+                } else {
+                    float z = (float)(urand(&s) * 1e3);
+                    memcpy(&a[i], &z, 4);
+                }
+            memcpy(b, a, (size_t)w * h * 4);
+            slc_raster_z0_dilate(b, w, h, m, frac, t, t2);
+            for (int y = 0; y < h; y++)
+                for (int x = 0; x < w; x++) {
+                    uint32_t v0 = z0_square_min(a, w, h, x, y, m);
+                    uint32_t v1 = z0_square_min(a, w, h, x, y, m + 1);
+                    if (frac == 0.0f || v1 == SL_RASTER_Z_EMPTY) {
+                        CHECK(b[y * w + x] == v0);
+                    } else if (v0 == SL_RASTER_Z_EMPTY) {
+                        CHECK(b[y * w + x] == v1);
+                    } else {
+                        float z0, z1, got;
+                        memcpy(&z0, &v0, 4);
+                        memcpy(&z1, &v1, 4);
+                        memcpy(&got, &b[y * w + x], 4);
+                        double want = (double)z0 + frac * ((double)z1 - z0);
+                        CHECK(fabs(got - want) <= 2e-7 * z0 + 1e-30);
+                        CHECK(got <= z0 && got >= z1);
+                    }
+                }
+            free(a);
+            free(b);
+            free(t);
+            free(t2);
+        }
 }
 
 /* T_j of the lobe (0,0,1), lambda for a uniform slab at depth d by quadrature (independent of the

@@ -1,5 +1,5 @@
-/* test_shadow_batch.c: the batched light pass (host/passes/light/shadow.h: sl_shadow_build_batch, 16 lobes
- * per launch, maps kept where they were built): every lobe of a batch against its own
+/* test_shadow_batch.c: the batched light pass (host/passes/light/shadow.h: sl_shadow_build_batch,
+ * 16 lobes per launch, maps kept where they were built): every lobe of a batch against its own
  * single-lobe build, the two lookup modes against each other, and the OpenCL batch against the
  * C batch (bit-identical maps across two launch groups, lookups within a few ulp). */
 #include "test.h"
@@ -100,8 +100,10 @@ TEST(shadow_batch_matches_single) {
 }
 
 /* OpenCL batch vs C batch, 20 lobes (two launches), with stochastic simplification and a z0
- * window: maps bit-identical (correctly rounded projection, fixed-point atomics, integer scans);
- * lookups within 4e-6 relative (OpenCL exp and division: a few ulp). */
+ * window, whole (2 texels) and fractional (the automatic window of 30 fibers: half-size 2.8 texels,
+ * kernels/raster.h: sl_raster_z0_blend): maps bit-identical (correctly rounded projection,
+ * fixed-point atomics, integer scans, the same float blend); lookups within 4e-6 relative (OpenCL
+ * exp and division: a few ulp). */
 TEST(shadow_batch_kernel_vs_c) {
     sl_device dk, dc;
     sl_err e = {{0}};
@@ -115,32 +117,38 @@ TEST(shadow_batch_kernel_vs_c) {
     double *ta = malloc(NP * NL * sizeof *ta), *tb = malloc(NP * NL * sizeof *tb);
     lobes(NL, dirs, lam);
     points(&h, NP, xyz);
-    sl_shadow_opts o;
-    sl_shadow_opts_default(&o);
-    o.size = 96;
-    o.kappa = 0.5;
-    o.z0_radius = 2;
-    sl_shadow_batch a, b;
-    unsigned long k0 = sl_cl_kernels_enqueued();
-    CHECK(sl_shadow_build_batch(&dk, &h, NL, dirs, lam, &o, &a, &e) == 0);
-    CHECK_CL_RAN(k0);
-    CHECK(sl_shadow_build_batch(&dc, &h, NL, dirs, lam, &o, &b, &e) == 0);
-    CHECK(a.on_device && !b.on_device);
     size_t plane = 96 * 96;
     uint32_t *za = malloc(plane * 4), *zb = malloc(plane * 4);
-    uint64_t *sa = malloc(plane * o.layers * 8), *sb = malloc(plane * o.layers * 8);
-    for (int j = 0; j < NL; j++) {
-        CHECK(sl_shadow_batch_read(&a, j, za, sa, &e) == 0);
-        CHECK(sl_shadow_batch_read(&b, j, zb, sb, &e) == 0);
-        CHECK(memcmp(za, zb, plane * 4) == 0);
-        CHECK(memcmp(sa, sb, plane * o.layers * 8) == 0);
+    uint64_t *sa = malloc(plane * SL_SHADOW_MAX_LAYERS * 8),
+             *sb = malloc(plane * SL_SHADOW_MAX_LAYERS * 8);
+    for (int win = 0; win < 2; win++) {
+        sl_shadow_opts o;
+        sl_shadow_opts_default(&o);
+        o.size = 96;
+        o.kappa = 0.5;
+        o.z0_radius = win ? 0 : 2;
+        sl_shadow_batch a, b;
+        unsigned long k0 = sl_cl_kernels_enqueued();
+        CHECK(sl_shadow_build_batch(&dk, &h, NL, dirs, lam, &o, &a, &e) == 0);
+        CHECK_CL_RAN(k0);
+        CHECK(sl_shadow_build_batch(&dc, &h, NL, dirs, lam, &o, &b, &e) == 0);
+        CHECK(a.on_device && !b.on_device);
+        printf("  window %d + %.3f texels\n", b.map[0].z0_radius, b.map[0].z0_frac);
+        if (win) /* the fractional window is what this round checks */
+            CHECK(b.map[0].z0_frac > 0.05f && b.map[0].z0_frac < 0.95f && b.map[0].z0_radius >= 1);
+        for (int j = 0; j < NL; j++) {
+            CHECK(sl_shadow_batch_read(&a, j, za, sa, &e) == 0);
+            CHECK(sl_shadow_batch_read(&b, j, zb, sb, &e) == 0);
+            CHECK(memcmp(za, zb, plane * 4) == 0);
+            CHECK(memcmp(sa, sb, plane * o.layers * 8) == 0);
+        }
+        CHECK(sl_shadow_batch_lookup(&a, NP, xyz, NULL, ta, &e) == 0);
+        CHECK(sl_shadow_batch_lookup(&b, NP, xyz, NULL, tb, &e) == 0);
+        for (int i = 0; i < NP * NL; i++)
+            CHECK_NEAR(ta[i], tb[i], 4e-6 * tb[i] + 1e-30);
+        sl_shadow_batch_free(&a);
+        sl_shadow_batch_free(&b);
     }
-    CHECK(sl_shadow_batch_lookup(&a, NP, xyz, NULL, ta, &e) == 0);
-    CHECK(sl_shadow_batch_lookup(&b, NP, xyz, NULL, tb, &e) == 0);
-    for (int i = 0; i < NP * NL; i++)
-        CHECK_NEAR(ta[i], tb[i], 4e-6 * tb[i] + 1e-30);
-    sl_shadow_batch_free(&a);
-    sl_shadow_batch_free(&b);
     free(ta);
     free(tb);
     free(za);
