@@ -238,9 +238,7 @@ static inline unsigned layer_of(float dz, const float *bnd, unsigned K) {
 }
 
 static inline float z0_of(const uint32_t *z0bits, size_t t) {
-    float z0;
-    memcpy(&z0, &z0bits[t], sizeof z0);
-    return z0;
+    return sl_raster_z_of(z0bits[t]);
 }
 
 /* Where layer k of texel t lives: bins[k * ks + t * ts] (planes: ks = w h, ts = 1; texel-major:

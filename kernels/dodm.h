@@ -20,17 +20,6 @@
 #include "raster.h"
 #include "sl_compat.h"
 
-#if !SL_OPENCL
-#include <string.h>
-SL_INLINE float sl_dodm_as_float(sl_uint b) {
-    float f;
-    memcpy(&f, &b, sizeof f);
-    return f;
-}
-#else
-#define sl_dodm_as_float(b) as_float(b)
-#endif
-
 /* Layer boundary b_k = k (k + 1) d / 2 as the rasterizer computes it. */
 SL_INLINE float sl_dodm_boundary(sl_uint k, float d) {
     return (float)(k * (k + 1u) / 2u) * d;
@@ -107,7 +96,7 @@ SL_INLINE float sl_dodm_tau_split(const SL_GLOBAL sl_uint *z0bits, const SL_GLOB
     if (behind) *behind = 0.0f;
     if (!(u >= 0.0f && v >= 0.0f && u < (float)w && v < (float)h)) return 0.0f;
     const sl_int tx = (sl_int)floor(u), ty = (sl_int)floor(v);
-    const float z0 = sl_dodm_as_float(z0bits[(sl_ulong)ty * (sl_ulong)w + (sl_ulong)tx]);
+    const float z0 = sl_raster_z_of(z0bits[(sl_ulong)ty * (sl_ulong)w + (sl_ulong)tx]);
     if (!(z > z0) && !behind) return 0.0f;
     const float dz = z > z0 ? z - z0 : 0.0f;
     const float rmax = 2.0f * (float)(w > h ? w : h);

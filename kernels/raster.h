@@ -25,6 +25,24 @@
 #include <string.h>
 #endif
 
+/* A first depth's float from its order-preserving bits (z >= 0: the float's own bits), and
+ * back; OpenCL's as_float / as_uint. */
+#if SL_OPENCL
+#define sl_raster_z_of(b) as_float(b)
+#define sl_raster_bits_of(z) as_uint(z)
+#else
+SL_INLINE float sl_raster_z_of(sl_uint b) {
+    float z;
+    memcpy(&z, &b, sizeof z);
+    return z;
+}
+SL_INLINE sl_uint sl_raster_bits_of(float z) {
+    sl_uint b;
+    memcpy(&b, &z, sizeof b);
+    return b;
+}
+#endif
+
 /* Record layout (floats): first sample x, y, z; step along x, y, z; step across x, y; mass per
  * sample (fixed-point units, before the tent weights); na; nw (small integers stored exactly);
  * one pad float. */
@@ -161,19 +179,10 @@ SL_INLINE sl_uint sl_raster_z0_window(const SL_GLOBAL sl_uint *z0bits, sl_int w,
  * steps of two texels (docs/shadow.md, "A window of constant width in fibers"). An empty a (no
  * hair within m) takes b. Same float operations in C and OpenCL. */
 SL_INLINE sl_uint sl_raster_z0_blend(sl_uint a, sl_uint b, float frac) {
-    if (a == SL_RASTER_Z_EMPTY || !(frac > 0.0f)) return a == SL_RASTER_Z_EMPTY ? b : a;
-#if SL_OPENCL
-    const float za = as_float(a), zb = as_float(b);
-    return as_uint(za + frac * (zb - za));
-#else
-    float za, zb, z;
-    memcpy(&za, &a, sizeof za);
-    memcpy(&zb, &b, sizeof zb);
-    z = za + frac * (zb - za);
-    sl_uint r;
-    memcpy(&r, &z, sizeof r);
-    return r;
-#endif
+    if (a == SL_RASTER_Z_EMPTY) return b;
+    if (!(frac > 0.0f)) return a;
+    const float za = sl_raster_z_of(a), zb = sl_raster_z_of(b);
+    return sl_raster_bits_of(za + frac * (zb - za));
 }
 
 #endif

@@ -112,29 +112,26 @@ int slcl_raster_buf(sl_cl *cl, cl_mem recs, size_t nseg, unsigned nl, int w, int
     SL_CL_ARG(&a, 5, z0bits);
     if (sl_cl_args_end(&a)) return -1;
     if (sl_cl_run1d(cl, kz, "raster: sl_raster_z0", nseg * nl, LOCAL, timer, e)) return -1;
-    if (z0_frac > 0.0f) { /* rows at m and m + 1 into scratch buffers, blended columns back */
-        cl_int err, err2;
-        const int m = z0_radius > 0 ? z0_radius : 0;
-        cl_mem tmp = clCreateBuffer(sl_cl_context(cl), CL_MEM_READ_WRITE,
-                                    nl * plane * sizeof(cl_uint), NULL, &err);
-        cl_mem tmp2 = clCreateBuffer(sl_cl_context(cl), CL_MEM_READ_WRITE,
-                                     nl * plane * sizeof(cl_uint), NULL, &err2);
+    if (z0_radius > 0 || z0_frac > 0.0f) {
+        /* rows into a scratch buffer, columns back into z0bits; a fractional window also takes
+         * the rows at m + 1 and blends the two column minima (cpu/raster.c, the C twin) */
+        const int m = z0_radius > 0 ? z0_radius : 0, blend = z0_frac > 0.0f;
+        const size_t bytes = nl * plane * sizeof(cl_uint);
+        cl_int err, err2 = CL_SUCCESS;
+        cl_mem tmp = clCreateBuffer(sl_cl_context(cl), CL_MEM_READ_WRITE, bytes, NULL, &err);
+        cl_mem tmp2 =
+            blend ? clCreateBuffer(sl_cl_context(cl), CL_MEM_READ_WRITE, bytes, NULL, &err2) : NULL;
         rc = sl_cl_check(err, "raster: clCreateBuffer(z0 scratch)", e) ||
-             sl_cl_check(err2, "raster: clCreateBuffer(z0 scratch)", e);
+                     sl_cl_check(err2, "raster: clCreateBuffer(z0 scratch)", e)
+                 ? -1
+                 : 0;
         if (!rc) rc = z0_min(cl, z0bits, tmp, w, h, nl, m, 1, timer, e);
-        if (!rc) rc = z0_min(cl, z0bits, tmp2, w, h, nl, m + 1, 1, timer, e);
-        if (!rc) rc = z0_min_blend(cl, tmp, tmp2, z0bits, w, h, nl, m, z0_frac, timer, e);
+        if (!rc && blend) rc = z0_min(cl, z0bits, tmp2, w, h, nl, m + 1, 1, timer, e);
+        if (!rc)
+            rc = blend ? z0_min_blend(cl, tmp, tmp2, z0bits, w, h, nl, m, z0_frac, timer, e)
+                       : z0_min(cl, tmp, z0bits, w, h, nl, m, 0, timer, e);
         if (tmp) clReleaseMemObject(tmp); /* freed once the queued kernels have finished */
         if (tmp2) clReleaseMemObject(tmp2);
-        if (rc) return rc;
-    } else if (z0_radius > 0) { /* rows into a scratch buffer, columns back into z0bits */
-        cl_int err;
-        cl_mem tmp = clCreateBuffer(sl_cl_context(cl), CL_MEM_READ_WRITE,
-                                    nl * plane * sizeof(cl_uint), NULL, &err);
-        if (sl_cl_check(err, "raster: clCreateBuffer(z0 scratch)", e)) return -1;
-        rc = z0_min(cl, z0bits, tmp, w, h, nl, z0_radius, 1, timer, e);
-        if (!rc) rc = z0_min(cl, tmp, z0bits, w, h, nl, z0_radius, 0, timer, e);
-        clReleaseMemObject(tmp); /* freed once the queued kernels using it have finished */
         if (rc) return rc;
     }
     a = sl_cl_args_begin(kl, e);
