@@ -139,7 +139,7 @@ SL_INLINE float sl_ec_forward_weight(const float *rho, int nj, float y) {
 SL_INLINE void sl_ec_attenuations(const sl_fiber_params *fp, float theta_d,
                                   const float *rho /* 3 x SL_DUAL_MAXJ */, const int *nj,
                                   float af[3], float ab[3]) {
-    sl_ec_geom g;
+    sl_ec_geom g = {0}; /* zeroed: GCC cannot see that init fills the model's half */
     sl_ec_geom_init(fp, theta_d, &g);
     float e[3] = {0.0f, 0.0f, 0.0f};
     for (int t = 0; t < 3; t++)
@@ -171,7 +171,7 @@ SL_INLINE void sl_ec_attenuations(const sl_fiber_params *fp, float theta_d,
  * moments only) or, for a sharp kernel, the window itself. */
 SL_INLINE void sl_ec_NG_row(const sl_fiber_params *fp, int t, float td, const float *rho, int nj,
                             int nd, float *out) {
-    sl_ec_geom g;
+    sl_ec_geom g = {0}; /* as in sl_ec_attenuations */
     sl_ec_geom_init(fp, td, &g);
     for (int k = 0; k < nd; k++)
         out[k] = 0.0f;

@@ -324,36 +324,36 @@ SL_INLINE int sl_srbf_deon_lobe_init_pre(const sl_srbf_deon_lobe_pre *P, float t
     float c = 0.5f * (lo + hi), h = 0.5f * (hi - lo);
     L->c = c;
     L->h = h;
-    /* Per node one sincos of ti / 2 and one exp: cos ti and the three half-angle sines and
-     * cosines below by the angle-addition formulas (absolute error ~1e-7, which the exponents
-     * scale by at most 4 / lambda^2 and 1 / v), and the exponentials of both i0e factors folded
-     * into exp(lg) (one exp of the sum: it also stays finite where exp(lg) alone overflowed). */
+    /* Per node sin and cos of ti / 2 (|ti / 2| <= pi / 4) and one exp, all branch-free
+     * polynomials (kernels/srbf_fast.h: sl_srbf_sin_hp, sl_srbf_cos_hp, sl_srbf_exp) and both
+     * branches of i0e computed and one selected, so that in C the 8 nodes run as vector lanes
+     * (the per-row lobe setup was a third of a chiang row as scalar libm calls); cos ti and the
+     * three half-angle sines and cosines below by the angle-addition formulas (absolute error
+     * ~1e-7, which the exponents scale by at most 4 / lambda^2 and 1 / v), and the exponentials
+     * of both i0e factors folded into exp(lg) (one exp of the sum: it also stays finite where
+     * exp(lg) alone overflowed; lg <= cv <= 80). */
     float shj = sin(0.5f * theta_j), chj = cos(0.5f * theta_j);
+    float cho = P->cho, sho = P->sho, inv_v = 1.0f / v;
     for (int k = 0; k < 8; k++) {
-        float ti = c + h * sl_srbf_deon_glx[k];
-        float sa = sin(0.5f * ti), ca = cos(0.5f * ti);
+        float hti = 0.5f * (c + h * sl_srbf_deon_glx[k]);
+        float sa = sl_srbf_sin_hp(hti), ca = sl_srbf_cos_hp(hti);
         float cti = (ca - sa) * (ca + sa);
-        L->wk[k] = 0.0f;
-        if (!(cti > 0.0f)) continue;
         float sd = sa * chj - ca * shj; /* sin((ti - theta_j) / 2) */
-        float cc = cti * cto, num;
-        if (cc >= 0.0f) {
-            float sp = sa * P->cho + ca * P->sho; /* sin((ti + tho) / 2) */
-            num = 2.0f * sp * sp;
-        } else {
-            float cm = ca * P->cho + sa * P->sho; /* cos((ti - tho) / 2) */
-            num = 2.0f * cm * cm;
-        }
-        float lg = -4.0f * sd * sd * inv_l2 + cv - num / v;
-        float y2 = 2.0f * cti * cos_tj * inv_l2, y1 = fabs(cc) / v;
-        int e2, e1;
-        float p2 = sl_srbf_i0e_poly(y2, &e2), p1 = sl_srbf_i0e_poly(y1, &e1);
-        if (e2) lg -= y2;
-        if (e1) lg -= y1;
-        float w = sl_srbf_deon_glw[k] * h * cti * (2.0f * SL_PI_F * p2) * exp(lg) * p1;
-        if (w > 0.0f && w <= SL_FLT_MAX) L->wk[k] = w;
-        L->wsum += L->wk[k];
+        float cc = cti * cto;
+        float sp = sa * cho + ca * sho; /* sin((ti + tho) / 2) */
+        float cm = ca * cho + sa * sho; /* cos((ti - tho) / 2) */
+        float num = cc >= 0.0f ? 2.0f * sp * sp : 2.0f * cm * cm;
+        float y2 = fabs(2.0f * cti * cos_tj * inv_l2), y1 = fabs(cc) * inv_v;
+        float p2 = sl_srbf_i0e_sel(y2), p1 = sl_srbf_i0e_sel(y1);
+        float lg = -4.0f * sd * sd * inv_l2 + cv - num * inv_v;
+        lg -= y2 < 3.75f ? y2 : 0.0f;
+        lg -= y1 < 3.75f ? y1 : 0.0f;
+        float w = sl_srbf_deon_glw[k] * h * cti * (2.0f * SL_PI_F * p2) * sl_srbf_exp(lg) * p1;
+        int ok = (cti > 0.0f) & (w > 0.0f) & (w <= SL_FLT_MAX);
+        L->wk[k] = ok ? w : 0.0f;
     }
+    for (int k = 0; k < 8; k++)
+        L->wsum += L->wk[k];
     return 1;
 }
 

@@ -99,6 +99,27 @@ SL_INLINE float sl_srbf_i0e_poly(float x, int *with_exp) {
     return p / sqrt(x);
 }
 
+/* sl_srbf_i0e_poly branch-free for x >= 0: both polynomials computed, one selected (with_exp
+ * is then x < 3.75), so that loops over it vectorise in C. */
+SL_INLINE float sl_srbf_i0e_sel(float x) {
+    float t = x * (1.0f / 3.75f);
+    t *= t;
+    float small =
+        1.0f + t * (3.5156229f +
+                    t * (3.0899424f +
+                         t * (1.2067492f + t * (0.2659732f + t * (0.0360768f + t * 0.0045813f)))));
+    float xl = x > 3.75f ? x : 3.75f, u = 3.75f / xl;
+    float p =
+        0.39894228f +
+        u * (0.01328592f +
+             u * (0.00225319f +
+                  u * (-0.00157565f +
+                       u * (0.00916281f +
+                            u * (-0.02057706f +
+                                 u * (0.02635537f + u * (-0.01647633f + u * 0.00392377f)))))));
+    return x < 3.75f ? small : p / sqrt(xl);
+}
+
 /* e^-x I0(x), x >= 0 (sl_srbf_i0e_poly with its exponential). */
 SL_INLINE float sl_srbf_i0e_fast(float x) {
     int with_exp;
@@ -294,8 +315,8 @@ SL_INLINE void sl_srbf_fast_pernode(const sl_fiber_params *fp, SL_GLOBAL const f
 /* Branch-free float exp and sin, so that the loops over the 8 longitudinal nodes and the 4 W
  * nodes vectorise in C (libm's expf/sinf are calls GCC cannot vectorise without -ffast-math) and
  * cost a few multiply-adds on the device. exp: Cephes expf (Cody-Waite reduction, degree-7
- * polynomial; about 1 ulp), 0 below -87 (the callers' weights are then negligible: e^-87 ~ 2e-38);
- * arguments here are finite and <= 0 (a NaN would give ~2e-38, not NaN).
+ * polynomial; about 1 ulp), 0 below -87 (the callers' weights are then negligible: e^-87 ~ 2e-38),
+ * clamped at 88; arguments here are finite and <= 80 (a NaN would give ~2e-38, not NaN).
  * sin: |x| <= pi/2 only, Taylor to x^11 (absolute error <= 6e-8 at pi/2, below the float ulp of
  * 1). */
 #if SL_OPENCL
@@ -325,6 +346,17 @@ SL_INLINE float sl_srbf_exp(float x) {
     p = p * r + 5.0000001201e-1f;
     float y = (p * r * r + r + 1.0f) * sl_srbf_pow2i(n);
     return x < -87.0f ? 0.0f : y;
+}
+/* cos: |x| <= pi/2 only, Taylor to x^12 (absolute error <= 7e-9 at pi/2). */
+SL_INLINE float sl_srbf_cos_hp(float x) {
+    float x2 = x * x;
+    float p = 2.0876756988e-9f;
+    p = p * x2 - 2.7557319224e-7f;
+    p = p * x2 + 2.4801587302e-5f;
+    p = p * x2 - 1.3888888889e-3f;
+    p = p * x2 + 4.1666666667e-2f;
+    p = p * x2 - 0.5f;
+    return 1.0f + x2 * p;
 }
 SL_INLINE float sl_srbf_sin_hp(float x) {
     float x2 = x * x;

@@ -19,8 +19,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* n rows of the stiff sample (host/verify/report/srbf_sample.c) and 3 distinct sigma_a per row (dark to
- * blond, deterministic). */
+/* n rows of the stiff sample (host/verify/report/srbf_sample.c) and 3 distinct sigma_a per row
+ * (dark to blond, deterministic). */
 static void rgb_rows(int n, float *in, float *sig) {
     sl_srbf_config *cfg = malloc((size_t)n * sizeof *cfg);
     sl_srbf_sample(SL_SRBF_SAMPLE_SEED, n, cfg);
@@ -193,23 +193,33 @@ TEST(srbf_fast_rgb_options) {
 }
 
 /* The branch-free helpers of kernels/srbf_fast.h against double libm: exp within 4e-7 relative
- * on [-87, 0] (Cephes expf is ~1 ulp = 6e-8; 4e-7 leaves room for the Cody-Waite split and the
- * final scaling) and exactly 0 below -87; sin within 2e-7 absolute on [-pi/2, pi/2] (the
- * Taylor remainder 5.7e-8 at pi/2 plus the rounding of 7 float operations on values near 1,
- * ulp 6e-8: measured 1.4e-7); the 4-node Fresnel against sl_mq_fresnel (same formulas, one
- * division instead of four) within 1e-6 relative plus 1e-7 absolute. */
+ * on [-87, 80] (Cephes expf is ~1 ulp = 6e-8; 4e-7 leaves room for the Cody-Waite split and the
+ * final scaling; the d'Eon / chiang lobe weights take it up to their cap 80) and exactly 0 below
+ * -87; sin and cos within 2e-7 absolute on [-pi/2, pi/2] (the Taylor remainders 5.7e-8 and 7e-9
+ * at pi/2 plus the rounding of 7 float operations on values near 1, ulp 6e-8: measured
+ * 1.4e-7); i0e's branch-free form bit for bit the branching one on both sides of its switch
+ * (the same operations on the side taken); the 4-node Fresnel against sl_mq_fresnel (same
+ * formulas, one division instead of four) within 1e-6 relative plus 1e-7 absolute. */
 TEST(srbf_fast_rgb_helpers) {
-    double worst_e = 0, worst_s = 0;
+    double worst_e = 0, worst_s = 0, worst_c = 0;
     for (int i = 0; i <= 20000; i++) {
-        float x = (float)(-87.0 * i / 20000.0);
+        float x = (float)(-87.0 + 167.0 * i / 20000.0);
         double ex = exp((double)x);
         worst_e = fmax(worst_e, fabs(sl_srbf_exp(x) - ex) / ex);
         float y = (float)(-0.5 * 3.14159265358979 + 3.14159265358979 * i / 20000.0);
         worst_s = fmax(worst_s, fabs(sl_srbf_sin_hp(y) - sin((double)y)));
+        worst_c = fmax(worst_c, fabs(sl_srbf_cos_hp(y) - cos((double)y)));
     }
     CHECK_MSG(worst_e <= 4e-7, "exp: worst relative error %.3g", worst_e);
     CHECK_MSG(worst_s <= 2e-7, "sin: worst absolute error %.3g", worst_s);
+    CHECK_MSG(worst_c <= 2e-7, "cos: worst absolute error %.3g", worst_c);
     CHECK(sl_srbf_exp(-90.0f) == 0.0f && sl_srbf_exp(-1e4f) == 0.0f);
+    const float xs[] = {0.0f, 1e-30f, 0.3f, 3.7499998f, 3.75f, 3.7500002f, 10.0f, 1e4f, 1e30f};
+    for (int i = 0; i < (int)(sizeof xs / sizeof xs[0]); i++) {
+        int with_exp;
+        float a = sl_srbf_i0e_poly(xs[i], &with_exp), b = sl_srbf_i0e_sel(xs[i]);
+        CHECK_MSG(a == b && with_exp == (xs[i] < 3.75f), "i0e at %g: %.9g vs %.9g", xs[i], b, a);
+    }
     const float etas[4] = {1.2f, 1.55f, 2.3f, 0.9f}; /* 0.9: total internal reflection */
     for (int k = 0; k < 4; k++)
         for (int schlick = 0; schlick < 2; schlick++)
