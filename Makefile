@@ -45,6 +45,11 @@ $(BUILD)/strandlight: $(BUILD)/host/cli/main.o $(BUILD)/libstrandlight.a
 $(BUILD)/unit_tests: $(TEST_OBJ) $(BUILD)/libstrandlight.a
 	$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
 
+# The C twins' hot loops for AVX2 + FMA, chosen at run time (cpu/srbf_deon_c_avx2.c).
+ifeq ($(shell uname -m),x86_64)
+$(BUILD)/cpu/srbf_deon_c_avx2.o: CFLAGS += -mavx2 -mfma
+endif
+
 $(BUILD)/%.o: %.c
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c -o $@ $<

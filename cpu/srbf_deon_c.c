@@ -3,6 +3,9 @@
 
 #include "srbf_deon.h"
 
+#include <stdlib.h>
+#include <string.h>
+
 void slc_srbf_deon_batch(const sl_fiber_params *fp, const float *C, const float *H, const float *D,
                          size_t n, const float *in, float *out) {
     int no = sl_srbf_deon_orders(fp);
@@ -26,40 +29,38 @@ void slc_srbf_deon_rgb_scalar(const sl_fiber_params *fp, const float *C, const f
     }
 }
 
-/* Model chiang: the renderer's rows come point by point (theta_o and sigma_a repeat while the
- * lobes vary), so the point's constants (sl_srbf_chiang_point: Fresnel, absorption and the
- * harmonic sums B_n at 12 nodes, about half of a row's work) are built when theta_o or sigma_a
- * change and reused otherwise: the same operations on the same values as the row by row
- * sl_srbf_deon_rgb_row, so the results are bit for bit those of slc_srbf_deon_rgb_scalar. */
-static void chiang_rgb_batch(const sl_fiber_params *fp, const float *C, const float *H,
-                             const float *D, size_t n, const float *in, const float *sigma_a,
-                             float *out) {
-    sl_srbf_chiang_point pt;
-    int nch = sigma_a ? 3 : 1, have = 0;
-    float key[4] = {0, 0, 0, 0};
-    for (size_t r = 0; r < n; r++) {
-        const float *x = in + 5 * r, *sg = sigma_a ? sigma_a + 3 * r : NULL;
-        int same = have && x[0] == key[0];
-        for (int c = 0; c < nch && sg; c++)
-            same = same && sg[c] == key[1 + c];
-        if (!same) {
-            sl_srbf_chiang_point_init(fp, D, x[0], nch, sg, &pt);
-            key[0] = x[0];
-            for (int c = 0; c < nch && sg; c++)
-                key[1 + c] = sg[c];
-            have = 1;
-        }
-        float o[5 * SL_SRBF_CH_MAXC];
-        sl_srbf_chiang_rgb_at(C, H, &pt, x[1], x[2], x[3], x[4], o);
-        sl_srbf_chiang_rgb_out(nch, o, out + 9 * r);
+#define SLC_CHIANG_BATCH slc_srbf_chiang_rgb_batch_base
+#include "srbf_chiang_batch.inc"
+
+int slc_simd_avx2(void) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    const char *v = getenv("SL_SIMD");
+    if (v && strcmp(v, "base") == 0) return 0;
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#else
+    return 0;
+#endif
+}
+
+void slc_srbf_chiang_rgb_batch(int avx2, const sl_fiber_params *fp, const float *C, const float *H,
+                               const float *D, size_t n, const float *in, const float *sigma_a,
+                               float *out) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (avx2) {
+        slc_srbf_chiang_rgb_batch_avx2(fp, C, H, D, n, in, sigma_a, out);
+        return;
     }
+#else
+    (void)avx2;
+#endif
+    slc_srbf_chiang_rgb_batch_base(fp, C, H, D, n, in, sigma_a, out);
 }
 
 void slc_srbf_deon_rgb_batch(const sl_fiber_params *fp, const float *C, const float *H,
                              const float *D, size_t n, const float *in, const float *sigma_a,
                              float *out) {
     if (fp->model == 2)
-        chiang_rgb_batch(fp, C, H, D, n, in, sigma_a, out);
+        slc_srbf_chiang_rgb_batch(slc_simd_avx2(), fp, C, H, D, n, in, sigma_a, out);
     else
         slc_srbf_deon_rgb_scalar(fp, C, H, D, n, in, sigma_a, out);
 }

@@ -26,4 +26,21 @@ void slc_srbf_deon_rgb_scalar(const sl_fiber_params *fp, const float *C, const f
                               const float *D, size_t n, const float *in, const float *sigma_a,
                               float *out);
 
+/* Model chiang's batch of slc_srbf_deon_rgb_batch for one instruction set: avx2 = 0 the x86-64
+ * baseline (SSE2), 1 AVX2 + FMA (cpu/srbf_deon_c_avx2.c; only where slc_simd_avx2() is 1). Both
+ * give the same bits (cpu/srbf_chiang_batch.inc); slc_srbf_deon_rgb_batch picks by
+ * slc_simd_avx2(). */
+void slc_srbf_chiang_rgb_batch(int avx2, const sl_fiber_params *fp, const float *C, const float *H,
+                               const float *D, size_t n, const float *in, const float *sigma_a,
+                               float *out);
+void slc_srbf_chiang_rgb_batch_base(const sl_fiber_params *fp, const float *C, const float *H,
+                                    const float *D, size_t n, const float *in, const float *sigma_a,
+                                    float *out);
+void slc_srbf_chiang_rgb_batch_avx2(const sl_fiber_params *fp, const float *C, const float *H,
+                                    const float *D, size_t n, const float *in, const float *sigma_a,
+                                    float *out);
+/* 1 where the CPU has AVX2 and FMA and the environment does not say SL_SIMD=base (the switch
+ * for measuring the baseline on the same machine); 0 elsewhere. */
+int slc_simd_avx2(void);
+
 #endif

@@ -3,8 +3,10 @@
  * reference (slc_srbf_deon_rgb_scalar: one sl_srbf_deon_rgb_row per row) on the same rows,
  * point by point as the shade pass builds them: typical rows and extreme ones (grazing and
  * polar views and lobes, lambda 0.005 and 4, phi 0 and pi), sigma_a NULL, per channel, and
- * changing within a point's rows (painted strands). Tolerance: 0 (the batch does the same float
- * operations on the same values; docs/performance.md "SIMD shading (session 7)"). */
+ * changing within a point's rows (painted strands); the x86-64 baseline batch and, where the
+ * CPU has them, the AVX2 + FMA one (cpu/srbf_deon_c_avx2.c). Tolerance: 0 (the batch does the
+ * same float operations on the same values, and ISO C contracts nothing into an FMA;
+ * docs/performance.md "SIMD shading (session 7)" and "AVX2 (session 15)"). */
 #include "test.h"
 
 #include "chiang_fixture.h"
@@ -65,16 +67,19 @@ TEST(srbf_batch_chiang_vs_scalar) {
         for (int use_sig = 0; use_sig < 2; use_sig++) {
             const float *sg = use_sig ? sig : NULL;
             slc_srbf_deon_rgb_scalar(&fp, t.C, t.H, t.D, n, in, sg, a);
-            memset(b, 0xff, n * 9 * sizeof *b); /* NaN: a row the batch skipped shows */
-            slc_srbf_deon_rgb_batch(&fp, t.C, t.H, t.D, n, in, sg, b);
-            size_t bad = 0, nonzero = 0;
-            for (size_t k = 0; k < n * 9; k++) {
-                if (memcmp(a + k, b + k, sizeof *a)) bad++;
-                if (a[k] > 0.0f) nonzero++;
+            /* the baseline batch, and the AVX2 one where the CPU has it */
+            for (int avx2 = 0; avx2 <= slc_simd_avx2(); avx2++) {
+                memset(b, 0xff, n * 9 * sizeof *b); /* NaN: a row the batch skipped shows */
+                slc_srbf_chiang_rgb_batch(avx2, &fp, t.C, t.H, t.D, n, in, sg, b);
+                size_t bad = 0, nonzero = 0;
+                for (size_t k = 0; k < n * 9; k++) {
+                    if (memcmp(a + k, b + k, sizeof *a)) bad++;
+                    if (a[k] > 0.0f) nonzero++;
+                }
+                CHECK_MSG(bad == 0, "material %d sig %d avx2 %d: %zu of %zu outputs differ", mi,
+                          use_sig, avx2, bad, n * 9);
+                CHECK_MSG(nonzero > n, "material %d: only %zu positive outputs", mi, nonzero);
             }
-            CHECK_MSG(bad == 0, "material %d sig %d: %zu of %zu outputs differ", mi, use_sig, bad,
-                      n * 9);
-            CHECK_MSG(nonzero > n, "material %d: only %zu positive outputs", mi, nonzero);
         }
     }
     free(in), free(sig), free(a), free(b);
