@@ -27,3 +27,7 @@ for m in '{"model": "chiang", "melanin": 0.3, "roughness": 0.3, "radial_roughnes
     '{"model": "deon"}' '{"model": "marschner"}'; do
     "$ROWS" "$m" 1
 done
+# The chiang batch on the x86-64 baseline instead of AVX2 + FMA (cpu/srbf_deon_c_avx2.c; the same
+# bits): the ratio to the first chiang line is what the wider vectors give.
+echo "chiang on the baseline (SL_SIMD=base):"
+SL_SIMD=base "$ROWS" '{"model": "chiang", "melanin": 0.3, "roughness": 0.3, "radial_roughness": 0.3}' 1
