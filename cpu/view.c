@@ -187,40 +187,49 @@ void slc_view_segment(const double p0[3], const double p1[3], double hw, float a
 }
 
 typedef struct kb_job {
-    const slc_frag_list *l;
-    int w, K;
+    const slc_frag_list *parts;
+    int nparts, w, K;
     sl_kfrag *kbuf;
     uint8_t *count;
     size_t *merges; /* one count per part */
 } kb_job;
 
-/* Rows begin .. end - 1: every fragment of those rows' pixels, in list order. */
+/* Rows begin .. end - 1: every fragment of those rows' pixels, in list order (the lists one after
+ * another). */
 static void kb_part(void *arg, size_t begin, size_t end, int part) {
     const kb_job *j = arg;
     const uint32_t pix_lo = (uint32_t)begin * (uint32_t)j->w;
     const uint32_t pix_hi = (uint32_t)end * (uint32_t)j->w;
     size_t merges = 0;
-    for (size_t i = 0; i < j->l->n; i++) {
-        uint32_t p = j->l->pix[i];
-        if (p < pix_lo || p >= pix_hi) continue;
-        int n = j->count[p];
-        if (n == j->K) merges++;
-        j->count[p] = (uint8_t)sl_kbuffer_insert(j->kbuf + (size_t)p * j->K, n, j->K, j->l->f[i]);
+    for (int q = 0; q < j->nparts; q++) {
+        const slc_frag_list *l = &j->parts[q];
+        for (size_t i = 0; i < l->n; i++) {
+            uint32_t p = l->pix[i];
+            if (p < pix_lo || p >= pix_hi) continue;
+            int n = j->count[p];
+            if (n == j->K) merges++;
+            j->count[p] = (uint8_t)sl_kbuffer_insert(j->kbuf + (size_t)p * j->K, n, j->K, l->f[i]);
+        }
     }
     j->merges[part] = merges;
 }
 
-size_t slc_kbuffer_build(const slc_frag_list *l, int w, int h, int K, sl_kfrag *kbuf,
-                         uint8_t *count, int nthreads) {
+size_t slc_kbuffer_build_parts(const slc_frag_list *parts, int nparts, int w, int h, int K,
+                               sl_kfrag *kbuf, uint8_t *count, int nthreads) {
     enum { MAXT = 16 };
     if (nthreads < 1) nthreads = 1;
     if (nthreads > MAXT) nthreads = MAXT;
     memset(count, 0, (size_t)w * h);
     size_t part_merges[MAXT] = {0};
-    kb_job job = {l, w, K, kbuf, count, part_merges};
+    kb_job job = {parts, nparts, w, K, kbuf, count, part_merges};
     sl_parallel_parts(nthreads, (size_t)h, kb_part, &job);
     size_t merges = 0;
     for (int t = 0; t < nthreads; t++)
         merges += part_merges[t];
     return merges;
+}
+
+size_t slc_kbuffer_build(const slc_frag_list *l, int w, int h, int K, sl_kfrag *kbuf,
+                         uint8_t *count, int nthreads) {
+    return slc_kbuffer_build_parts(l, 1, w, h, K, kbuf, count, nthreads);
 }

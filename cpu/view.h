@@ -55,5 +55,10 @@ void slc_view_segment(const double p0[3], const double p1[3], double hw, float a
  * not depend on nthreads. Returns the number of merges (overflowing insertions). */
 size_t slc_kbuffer_build(const slc_frag_list *l, int w, int h, int K, sl_kfrag *kbuf,
                          uint8_t *count, int nthreads);
+/* The same from several lists taken one after another (parts[0] first), as if concatenated:
+ * the view pass's per-thread lists without the copy (a frame's fragments are ~120 MB on the goal
+ * scene; docs/performance.md, session 15). */
+size_t slc_kbuffer_build_parts(const slc_frag_list *parts, int nparts, int w, int h, int K,
+                               sl_kfrag *kbuf, uint8_t *count, int nthreads);
 
 #endif

@@ -1,8 +1,9 @@
 /* frame_view.c: the view pass of the frame (frame_view.h): every segment projected into the camera
  * (perspective, per endpoint, in double), turned into fragments by the shared rasterizer
  * (cpu/view.c) in threads over contiguous segment ranges, then inserted in segment order into
- * the K-buffer (C twin in threads over row bands, or kernels/view.cl through host/passes/view/view_cl.h,
- * bit-identical), so the result is independent of the thread count and the backend. */
+ * the K-buffer (C twin in threads over row bands, or kernels/view.cl through
+ * host/passes/view/view_cl.h, bit-identical), so the result is independent of the thread count and
+ * the backend. */
 #include "passes/view/frame_view.h"
 
 #include "base/parallel.h"
@@ -17,7 +18,7 @@ typedef struct vjob {
     const sl_hair *h;
     const sl_camera *cam;
     slc_frag_list *out; /* one list per part, concatenated in part order */
-    float *seglen; /* projected length per segment (NAN when not drawn), indexed by point */
+    float *seglen;      /* projected length per segment (NAN when not drawn), indexed by point */
 } vjob;
 
 /* Strands begin .. end - 1 into part's own fragment list. */
@@ -53,8 +54,8 @@ static int cmp_float(const void *a, const void *b) {
     return x < y ? -1 : x > y;
 }
 
-int sl_view_pass(sl_device *dev, int threads, int on_device, const sl_hair *h,
-                 const sl_camera *cam, int K, sl_view_result *r, sl_err *e) {
+int sl_view_pass(sl_device *dev, int threads, int on_device, const sl_hair *h, const sl_camera *cam,
+                 int K, sl_view_result *r, sl_err *e) {
     enum { MAXT = 16 };
     int nt = threads;
     if (nt > MAXT) nt = MAXT;
@@ -68,21 +69,10 @@ int sl_view_pass(sl_device *dev, int threads, int on_device, const sl_hair *h,
     /* parts are whole strands, and a run of fragments (cpu/view.c) never continues across a
      * strand, so the part lists concatenated in part order are the one-thread list */
     sl_parallel_parts(nt, h->num_strands, view_part, &job);
-    /* concatenate in segment order */
-    slc_frag_list all = out[0];
-    for (int t = 1; t < nt; t++) {
-        if (out[t].n) {
-            if (all.n + out[t].n > all.cap) {
-                all.cap = all.n + out[t].n;
-                all.f = sl_realloc(all.f, all.cap * sizeof *all.f);
-                all.pix = sl_realloc(all.pix, all.cap * sizeof *all.pix);
-            }
-            memcpy(all.f + all.n, out[t].f, out[t].n * sizeof *all.f);
-            memcpy(all.pix + all.n, out[t].pix, out[t].n * sizeof *all.pix);
-            all.n += out[t].n;
-        }
-        slc_frag_list_free(&out[t]);
-    }
+    int nt_lists = nt;
+    size_t total = 0;
+    for (int t = 0; t < nt; t++)
+        total += out[t].n;
     free(r->kbuf);
     free(r->kcount);
     size_t npx = (size_t)w * hh;
@@ -91,25 +81,46 @@ int sl_view_pass(sl_device *dev, int threads, int on_device, const sl_hair *h,
     r->w = w, r->h = hh, r->K = K;
     int done = 0;
     if (on_device) {
+        /* the device takes one list: concatenate in segment order, freeing each part once
+         * copied */
+        slc_frag_list all = out[0];
+        out[0] = (slc_frag_list){0};
+        for (int t = 1; t < nt; t++) {
+            if (out[t].n) {
+                if (all.n + out[t].n > all.cap) {
+                    all.cap = all.n + out[t].n;
+                    all.f = sl_realloc(all.f, all.cap * sizeof *all.f);
+                    all.pix = sl_realloc(all.pix, all.cap * sizeof *all.pix);
+                }
+                memcpy(all.f + all.n, out[t].f, out[t].n * sizeof *all.f);
+                memcpy(all.pix + all.n, out[t].pix, out[t].n * sizeof *all.pix);
+                all.n += out[t].n;
+            }
+            slc_frag_list_free(&out[t]);
+        }
+        out[0] = all;
+        nt_lists = 1;
         int rc = slcl_kbuffer_build(dev->cl, &all, w, hh, K, r->kbuf, r->kcount, &r->merges, e);
         if (rc == 0)
             done = 1;
         else if (!sl_device_try_fallback(dev, rc, e)) {
-            slc_frag_list_free(&all);
+            slc_frag_list_free(&out[0]);
             free(seglen);
             return -1;
         }
     }
-    if (!done) r->merges = slc_kbuffer_build(&all, w, hh, K, r->kbuf, r->kcount, nt);
+    /* C: the per-thread lists in part order are the one-thread list; no copy */
+    if (!done) slc_kbuffer_build_parts(out, nt_lists, w, hh, K, r->kbuf, r->kcount, nt);
     r->on_device = done;
-    r->frags = all.n;
+    r->frags = total;
     /* fragments without an entry of their own (merged on overflow, or hidden behind a fully
      * opaque entry, kernels/kbuffer.h): the same count on both backends */
     size_t entries = 0;
     for (size_t p = 0; p < npx; p++)
         entries += r->kcount[p];
-    r->merges = all.n - entries;
-    slc_frag_list_free(&all);
+    r->merges = total - entries;
+    for (int t = 0; t < nt_lists; t++)
+        slc_frag_list_free(&out[t]);
     /* median projected segment length (for shading_rate auto) */
     size_t m = 0;
     for (uint32_t i = 0; i < h->num_points; i++)
