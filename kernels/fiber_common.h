@@ -19,6 +19,27 @@
 #undef SL_F
 #undef SL_K
 
+/* Abramowitz & Stegun 9.8.1 and 9.8.2, the one copy of their coefficients (d'Eon's log M_p,
+ * the SRBF fast paths' i0e): I0(x) = sl_as_i0_small(t^2) with t = x / 3.75 for |x| <= 3.75
+ * (A&S: |eps| < 1.6e-7), and sqrt(x) e^-x I0(x) = sl_as_i0e_large(u) with u = 3.75 / x for
+ * x >= 3.75 (A&S: |eps| < 1.9e-7). */
+SL_INLINE float sl_as_i0_small(float t2) {
+    return 1.0f +
+           t2 *
+               (3.5156229f +
+                t2 * (3.0899424f +
+                      t2 * (1.2067492f + t2 * (0.2659732f + t2 * (0.0360768f + t2 * 0.0045813f)))));
+}
+SL_INLINE float sl_as_i0e_large(float u) {
+    return 0.39894228f +
+           u * (0.01328592f +
+                u * (0.00225319f +
+                     u * (-0.00157565f +
+                          u * (0.00916281f +
+                               u * (-0.02057706f +
+                                    u * (0.02635537f + u * (-0.01647633f + u * 0.00392377f)))))));
+}
+
 /* Node j (0..7) of the 8-point Gauss-Legendre rule on panel k of width 2 hw starting at a
  * (centre a + (2k + 1) hw): its abscissa *x and weight *w (the composite rules of
  * fiber_deon.h, fiber_chiang.h and fiber_furnace.h). */

@@ -39,22 +39,11 @@ SL_INLINE float sl_deon_log_i0e_av(float a, float v) {
     if (x < 3.75f) {
         float t = x * (1.0f / 3.75f);
         t *= t;
-        float i0 =
-            1.0f +
-            t * (3.5156229f +
-                 t * (3.0899424f +
-                      t * (1.2067492f + t * (0.2659732f + t * (0.0360768f + t * 0.0045813f)))));
+        float i0 = sl_as_i0_small(t);
         return log(i0) - x;
     }
     float u = 3.75f * (v / a); /* 1/t, in (0, 1] */
-    float s =
-        0.39894228f +
-        u * (0.01328592f +
-             u * (0.00225319f +
-                  u * (-0.00157565f +
-                       u * (0.00916281f +
-                            u * (-0.02057706f +
-                                 u * (0.02635537f + u * (-0.01647633f + u * 0.00392377f)))))));
+    float s = sl_as_i0e_large(u);
     return log(s) - 0.5f * log(a) + 0.5f * log(v);
 }
 

@@ -81,20 +81,10 @@ SL_INLINE float sl_srbf_i0e_poly(float x, int *with_exp) {
         float t = x * (1.0f / 3.75f);
         t *= t;
         *with_exp = 1;
-        return 1.0f +
-               t * (3.5156229f +
-                    t * (3.0899424f +
-                         t * (1.2067492f + t * (0.2659732f + t * (0.0360768f + t * 0.0045813f)))));
+        return sl_as_i0_small(t);
     }
     float t = 3.75f / x;
-    float p =
-        0.39894228f +
-        t * (0.01328592f +
-             t * (0.00225319f +
-                  t * (-0.00157565f +
-                       t * (0.00916281f +
-                            t * (-0.02057706f +
-                                 t * (0.02635537f + t * (-0.01647633f + t * 0.00392377f)))))));
+    float p = sl_as_i0e_large(t);
     *with_exp = 0;
     return p / sqrt(x);
 }
@@ -104,19 +94,9 @@ SL_INLINE float sl_srbf_i0e_poly(float x, int *with_exp) {
 SL_INLINE float sl_srbf_i0e_sel(float x) {
     float t = x * (1.0f / 3.75f);
     t *= t;
-    float small =
-        1.0f + t * (3.5156229f +
-                    t * (3.0899424f +
-                         t * (1.2067492f + t * (0.2659732f + t * (0.0360768f + t * 0.0045813f)))));
-    float xl = x > 3.75f ? x : 3.75f, u = 3.75f / xl;
-    float p =
-        0.39894228f +
-        u * (0.01328592f +
-             u * (0.00225319f +
-                  u * (-0.00157565f +
-                       u * (0.00916281f +
-                            u * (-0.02057706f +
-                                 u * (0.02635537f + u * (-0.01647633f + u * 0.00392377f)))))));
+    float small = sl_as_i0_small(t);
+    float xl = x > 3.75f ? x : 3.75f;
+    float p = sl_as_i0e_large(3.75f / xl);
     return x < 3.75f ? small : p / sqrt(xl);
 }
 
