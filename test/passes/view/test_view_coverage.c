@@ -406,6 +406,28 @@ TEST(cov_strand_ends_and_gaps) {
     free(a);
 }
 
+/* Strand s (0..59) of the crossing set: a wavy strand of 12 points (0.3 - 1.3 px wide) in the
+ * 64 x 48 image, its segments numbered 12 s.. (the strand's last point starts no segment). */
+static void cov_crossing_strand(slc_frag_list *l, int s) {
+    double pts[3 * 12], x0 = 4 + (s * 37) % 56, y0 = 2 + (s * 11) % 10, ph = 0.7 * s;
+    for (int i = 0; i < 12; i++) {
+        pts[3 * i] = x0 + 3 * sin(ph + 0.6 * i) + 0.3 * i;
+        pts[3 * i + 1] = y0 + 3.1 * i;
+        pts[3 * i + 2] = 2 + 0.1 * s + 0.05 * i;
+    }
+    cov_draw(l, pts, 12, 0.15 + 0.5 * (s % 3) / 2.0 + 0.1 * (s % 2), (uint32_t)(12 * s));
+}
+
+/* Whether two K-buffers hold the same counts and, bit for bit, the same kept entries. */
+static int cov_kbuf_same(const sl_kfrag *a, const uint8_t *ca, const sl_kfrag *b, const uint8_t *cb,
+                         size_t npx, int K) {
+    if (memcmp(ca, cb, npx) != 0) return 0;
+    for (size_t p = 0; p < npx; p++)
+        for (int i = 0; i < ca[p]; i++)
+            if (memcmp(&a[p * K + i], &b[p * K + i], sizeof *a) != 0) return 0;
+    return 1;
+}
+
 TEST(cov_strands_opencl_equals_c) {
     /* Merged strand fragments go through the same K-buffer fill: kernels/view.cl vs the C
      * twin on 60 wavy strands of 12 points (0.3 - 1.3 px wide, crossing each other) in a 64 x 48
@@ -414,17 +436,8 @@ TEST(cov_strands_opencl_equals_c) {
     sl_err e;
     SL_TEST_OPEN_CL(&cl, &e);
     slc_frag_list l = {0};
-    uint32_t seg = 0;
-    for (int s = 0; s < 60; s++) {
-        double pts[3 * 12], x0 = 4 + (s * 37) % 56, y0 = 2 + (s * 11) % 10, ph = 0.7 * s;
-        for (int i = 0; i < 12; i++) {
-            pts[3 * i] = x0 + 3 * sin(ph + 0.6 * i) + 0.3 * i;
-            pts[3 * i + 1] = y0 + 3.1 * i;
-            pts[3 * i + 2] = 2 + 0.1 * s + 0.05 * i;
-        }
-        cov_draw(&l, pts, 12, 0.15 + 0.5 * (s % 3) / 2.0 + 0.1 * (s % 2), seg);
-        seg += 12; /* the strand's last point starts no segment */
-    }
+    for (int s = 0; s < 60; s++)
+        cov_crossing_strand(&l, s);
     enum { K = 3 };
     size_t npx = (size_t)COV_W * COV_H;
     sl_kfrag *a = calloc(npx * K, sizeof *a), *b = calloc(npx * K, sizeof *b);
@@ -434,12 +447,7 @@ TEST(cov_strands_opencl_equals_c) {
     CHECK(slcl_kbuffer_build(cl.cl, &l, COV_W, COV_H, K, b, cb, &mb, &e) == 0);
     CHECK_CL_RAN(k0);
     CHECK(ma == mb && ma > 50);
-    CHECK(memcmp(ca, cb, npx) == 0);
-    int same = 1;
-    for (size_t p = 0; p < npx; p++)
-        for (int i = 0; i < ca[p]; i++)
-            same &= memcmp(&a[p * K + i], &b[p * K + i], sizeof *a) == 0;
-    CHECK(same);
+    CHECK(cov_kbuf_same(a, ca, b, cb, npx, K));
     free(a), free(b), free(ca), free(cb);
     slc_frag_list_free(&l);
     sl_device_close(&cl);
@@ -451,18 +459,9 @@ TEST(cov_kbuffer_parts_equal_one_list) {
      * same strands drawn into 3 lists of 20 (as 3 threads would), K = 3 (many overflow merges),
      * 1 and 2 threads: merges, counts and every kept entry bit-identical. */
     slc_frag_list one = {0}, parts[3] = {{0}};
-    uint32_t seg = 0;
     for (int s = 0; s < 60; s++) {
-        double pts[3 * 12], x0 = 4 + (s * 37) % 56, y0 = 2 + (s * 11) % 10, ph = 0.7 * s;
-        for (int i = 0; i < 12; i++) {
-            pts[3 * i] = x0 + 3 * sin(ph + 0.6 * i) + 0.3 * i;
-            pts[3 * i + 1] = y0 + 3.1 * i;
-            pts[3 * i + 2] = 2 + 0.1 * s + 0.05 * i;
-        }
-        double r = 0.15 + 0.5 * (s % 3) / 2.0 + 0.1 * (s % 2);
-        cov_draw(&one, pts, 12, r, seg);
-        cov_draw(&parts[s / 20], pts, 12, r, seg);
-        seg += 12;
+        cov_crossing_strand(&one, s);
+        cov_crossing_strand(&parts[s / 20], s);
     }
     CHECK(parts[0].n > 0 && parts[1].n > 0 && parts[2].n > 0);
     CHECK(parts[0].n + parts[1].n + parts[2].n == one.n);
@@ -474,12 +473,7 @@ TEST(cov_kbuffer_parts_equal_one_list) {
         size_t ma = slc_kbuffer_build(&one, COV_W, COV_H, K, a, ca, threads);
         size_t mb = slc_kbuffer_build_parts(parts, 3, COV_W, COV_H, K, b, cb, threads);
         CHECK(ma == mb && ma > 50);
-        CHECK(memcmp(ca, cb, npx) == 0);
-        int same = 1;
-        for (size_t p = 0; p < npx; p++)
-            for (int i = 0; i < ca[p]; i++)
-                same &= memcmp(&a[p * K + i], &b[p * K + i], sizeof *a) == 0;
-        CHECK(same);
+        CHECK(cov_kbuf_same(a, ca, b, cb, npx, K));
     }
     free(a), free(b), free(ca), free(cb);
     slc_frag_list_free(&one);
