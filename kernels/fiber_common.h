@@ -23,6 +23,7 @@
  * the SRBF fast paths' i0e): I0(x) = sl_as_i0_small(t^2) with t = x / 3.75 for |x| <= 3.75
  * (A&S: |eps| < 1.6e-7), and sqrt(x) e^-x I0(x) = sl_as_i0e_large(u) with u = 3.75 / x for
  * x >= 3.75 (A&S: |eps| < 1.9e-7). */
+#define SL_AS_I0_SPLIT 3.75f /* below: sl_as_i0_small, from here on: sl_as_i0e_large */
 SL_INLINE float sl_as_i0_small(float t2) {
     return 1.0f +
            t2 *

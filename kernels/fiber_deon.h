@@ -36,7 +36,7 @@
  * x = a / v as (a, v) so that -1/2 log(x) = -1/2 log(a) + 1/2 log(v) never overflows. */
 SL_INLINE float sl_deon_log_i0e_av(float a, float v) {
     float x = a / v;
-    if (x < 3.75f) {
+    if (x < SL_AS_I0_SPLIT) {
         float t = x * (1.0f / 3.75f);
         t *= t;
         float i0 = sl_as_i0_small(t);

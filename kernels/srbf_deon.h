@@ -346,8 +346,8 @@ SL_INLINE int sl_srbf_deon_lobe_init_pre(const sl_srbf_deon_lobe_pre *P, float t
         float y2 = fabs(2.0f * cti * cos_tj * inv_l2), y1 = fabs(cc) * inv_v;
         float p2 = sl_srbf_i0e_sel(y2), p1 = sl_srbf_i0e_sel(y1);
         float lg = -4.0f * sd * sd * inv_l2 + cv - num * inv_v;
-        lg -= y2 < 3.75f ? y2 : 0.0f;
-        lg -= y1 < 3.75f ? y1 : 0.0f;
+        lg -= y2 < SL_AS_I0_SPLIT ? y2 : 0.0f; /* sl_srbf_i0e_sel left out e^-y there */
+        lg -= y1 < SL_AS_I0_SPLIT ? y1 : 0.0f;
         float w = sl_srbf_deon_glw[k] * h * cti * (2.0f * SL_PI_F * p2) * sl_srbf_exp(lg) * p1;
         int ok = (cti > 0.0f) & (w > 0.0f) & (w <= SL_FLT_MAX);
         L->wk[k] = ok ? w : 0.0f;

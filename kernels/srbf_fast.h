@@ -77,7 +77,7 @@ static const float sl_srbf_glw6[SL_SRBF_FAST_NODES] = SL_SRBF_GL_W;
  * loop, unlike the series of sl_mq_i0e, which cost a third of the fast path's time. */
 SL_INLINE float sl_srbf_i0e_poly(float x, int *with_exp) {
     x = fabs(x);
-    if (x < 3.75f) {
+    if (x < SL_AS_I0_SPLIT) {
         float t = x * (1.0f / 3.75f);
         t *= t;
         *with_exp = 1;
@@ -90,14 +90,14 @@ SL_INLINE float sl_srbf_i0e_poly(float x, int *with_exp) {
 }
 
 /* sl_srbf_i0e_poly branch-free for x >= 0: both polynomials computed, one selected (with_exp
- * is then x < 3.75), so that loops over it vectorise in C. */
+ * is then x < SL_AS_I0_SPLIT), so that loops over it vectorise in C. */
 SL_INLINE float sl_srbf_i0e_sel(float x) {
     float t = x * (1.0f / 3.75f);
     t *= t;
     float small = sl_as_i0_small(t);
-    float xl = x > 3.75f ? x : 3.75f;
+    float xl = x > SL_AS_I0_SPLIT ? x : SL_AS_I0_SPLIT;
     float p = sl_as_i0e_large(3.75f / xl);
-    return x < 3.75f ? small : p / sqrt(xl);
+    return x < SL_AS_I0_SPLIT ? small : p / sqrt(xl);
 }
 
 /* e^-x I0(x), x >= 0 (sl_srbf_i0e_poly with its exponential). */

@@ -81,17 +81,16 @@ int sl_view_pass(sl_device *dev, int threads, int on_device, const sl_hair *h, c
     r->w = w, r->h = hh, r->K = K;
     int done = 0;
     if (on_device) {
-        /* the device takes one list: concatenate in segment order, freeing each part once
-         * copied */
+        /* the device takes one list: the parts appended to the first in segment order (its
+         * size is known: one reallocation), each freed once copied */
         slc_frag_list all = out[0];
-        out[0] = (slc_frag_list){0};
+        if (total > all.cap) {
+            all.cap = total;
+            all.f = sl_realloc(all.f, all.cap * sizeof *all.f);
+            all.pix = sl_realloc(all.pix, all.cap * sizeof *all.pix);
+        }
         for (int t = 1; t < nt; t++) {
-            if (out[t].n) {
-                if (all.n + out[t].n > all.cap) {
-                    all.cap = all.n + out[t].n;
-                    all.f = sl_realloc(all.f, all.cap * sizeof *all.f);
-                    all.pix = sl_realloc(all.pix, all.cap * sizeof *all.pix);
-                }
+            if (out[t].n) { /* (an empty part may have no buffers: no memcpy from NULL) */
                 memcpy(all.f + all.n, out[t].f, out[t].n * sizeof *all.f);
                 memcpy(all.pix + all.n, out[t].pix, out[t].n * sizeof *all.pix);
                 all.n += out[t].n;
