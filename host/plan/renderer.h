@@ -90,7 +90,8 @@ struct sl_renderer {
     /* last frame's plan */
     int npass;
     sl_pass_rec pass[SL_FRAME_MAX_PASSES];
-    int rate_k; /* 0: fragment, k >= 1: every k-th vertex */
+    int rate_k;     /* 0: fragment, k >= 1: every k-th vertex */
+    size_t refined; /* shading points the refinement added this frame (vertex rate) */
     int ms_on, lobes_used;
     double total_s;
 };

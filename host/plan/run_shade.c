@@ -79,6 +79,43 @@ static int lobe_sums(sl_renderer *r, size_t n, const double *pos, int nused, flo
     return rc;
 }
 
+/* Appends to the nlobes x n0 array *a (index j n0 + i) the nlobes x nadd array b: the
+ * nlobes x (n0 + nadd) array of both, in place of *a. */
+static void append_lobe_rows(float **a, const float *b, int nlobes, size_t n0, size_t nadd) {
+    const size_t n = n0 + nadd;
+    float *c = sl_malloc(((size_t)nlobes * n + 1) * sizeof *c);
+    for (int j = 0; j < nlobes; j++) {
+        memcpy(c + (size_t)j * n, *a + (size_t)j * n0, n0 * sizeof *c);
+        memcpy(c + (size_t)j * n + n0, b + (size_t)j * nadd, nadd * sizeof *c);
+    }
+    free(*a);
+    *a = c;
+}
+
+/* Vertex rate: more shading points inside the anchor pairs whose transmittance changes by more
+ * than quality.shading_refine along the strand (sl_shade_points_refine), with their own T (and
+ * B). 0, or -1 with e set. */
+static int refine(sl_renderer *r, const sl_scene *s, const sl_hair *h, const sl_kbuf_view *kb,
+                  sl_err *e) {
+    sl_frame_work *w = &r->fw;
+    sl_shade_points *pts = &w->pts;
+    r->refined = 0;
+    if (r->rate_k < 1 || !(s->shading_refine > 1) || !w->nused) return 0;
+    const size_t n0 = pts->n;
+    const size_t add = sl_shade_points_refine(h, kb, r->rate_k, &w->sm, pts, pts->T, w->nused,
+                                              w->share, s->shading_refine);
+    if (!add) return 0;
+    float *T = NULL, *B = NULL;
+    if (lobe_sums(r, add, pts->pos + 3 * n0, w->nused, &T, pts->B ? &B : NULL, e)) return -1;
+    append_lobe_rows(&pts->T, T, w->nused, n0, add);
+    if (B) append_lobe_rows(&pts->B, B, w->nused, n0, add);
+    free(T);
+    free(B);
+    pts->out = sl_realloc(pts->out, (pts->n * SL_SHADE_FLOATS + 1) * sizeof *pts->out);
+    r->refined = add;
+    return 0;
+}
+
 int sl_pass_lookup(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     const sl_hair *h = in->h;
     sl_frame_work *w = &r->fw;
@@ -96,6 +133,7 @@ int sl_pass_lookup(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     /* T_j toward each lobe; with MS, the optical depth of the hair behind each point too (the
      * stack of the local backscattering, docs/volume.md) */
     if (lobe_sums(r, pts->n, pts->pos, nused, &pts->T, r->ms_on ? &pts->B : NULL, e)) return -1;
+    if (refine(r, in->s, h, &kb, e)) return -1;
     if (r->ms_on && r->have_vol && r->ftex.nlobes == nused &&
         (!r->ftex.tau || r->tau_light_key != r->key[SL_PASSID_LIGHT])) {
         /* the same maps' optical depth at the march's vertices, for the depth-guided T_f
@@ -111,8 +149,13 @@ int sl_pass_lookup(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
         r->tau_light_key = r->key[SL_PASSID_LIGHT];
         free(vT);
     }
-    sl_frame_why(r, "transmittance of %zu shading points toward %d lobes%s", pts->n, nused,
-                 r->ms_on ? ", and the hair behind them" : "");
+    char refined[120] = "";
+    if (r->refined)
+        snprintf(refined, sizeof refined,
+                 " (%zu inside segments whose T changes by more than %gx, quality.shading_refine)",
+                 r->refined, in->s->shading_refine);
+    sl_frame_why(r, "transmittance of %zu shading points%s toward %d lobes%s", pts->n, refined,
+                 nused, r->ms_on ? ", and the hair behind them" : "");
     return 0;
 }
 

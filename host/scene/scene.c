@@ -38,6 +38,7 @@ void sl_scene_default(sl_scene *s) {
     snprintf(s->shading_rate, sizeof s->shading_rate, "auto");
     s->lobe_threshold = SL_FRAME_LOBE_THRESHOLD;
     s->point_threshold = SL_FRAME_POINT_THRESHOLD;
+    s->shading_refine = SL_FRAME_SHADING_REFINE;
     s->ms_auto_threshold = SL_FRAME_MS_AUTO_THRESHOLD;
     s->auto_fragment_px = SL_FRAME_AUTO_FRAGMENT_PX;
     s->broad_lobes = SL_BROAD_SUBDIVIDE;
@@ -208,6 +209,7 @@ static int read_quality(const sl_json_ctx *top, const cJSON *q, sl_scene *s, sl_
                                        "shadow_size",
                                        "lobe_threshold",
                                        "point_threshold",
+                                       "shading_refine",
                                        "ms_auto_threshold",
                                        "auto_fragment_px",
                                        "broad_lobes",
@@ -244,6 +246,10 @@ static int read_quality(const sl_json_ctx *top, const cJSON *q, sl_scene *s, sl_
     if (sl_json_number(&c, q, "point_threshold", 0, &s->point_threshold, e)) return -1;
     if (!(s->point_threshold >= 0 && s->point_threshold < 1))
         return sl_fail(e, "%s: quality.point_threshold: must be in [0, 1)", top->file);
+    if (sl_json_number(&c, q, "shading_refine", 0, &s->shading_refine, e)) return -1;
+    if (!(s->shading_refine == 0 || (s->shading_refine >= 1.05 && s->shading_refine <= 1e3)))
+        return sl_fail(e, "%s: quality.shading_refine: must be 0 (off) or in [1.05, 1000]",
+                       top->file);
     if (sl_json_number(&c, q, "ms_auto_threshold", 0, &s->ms_auto_threshold, e)) return -1;
     if (!(s->ms_auto_threshold >= 0 && s->ms_auto_threshold <= 1))
         return sl_fail(e, "%s: quality.ms_auto_threshold: must be in [0, 1]", top->file);

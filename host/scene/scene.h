@@ -11,6 +11,8 @@
 /* Planner thresholds: defaults of the quality.* keys below (docs/frame.md, docs/formats.md). */
 #define SL_FRAME_LOBE_THRESHOLD 1e-3  /* skip lobes below this share of the total lobe power */
 #define SL_FRAME_POINT_THRESHOLD 1e-4 /* per point: skip lobe j when T_j x its share is below */
+#define SL_FRAME_SHADING_REFINE                                                                    \
+    3.0 /* vertex rate: most a T may change along one interpolated span */
 /* quality.multiple_scattering "auto": run the volume passes when sl_dual_ms_share(material) is at
  * least this (docs/dual.md: black hair 0.004, brown 0.041, blond 0.28). */
 #define SL_FRAME_MS_AUTO_THRESHOLD 0.02
@@ -67,6 +69,8 @@ typedef struct sl_scene {
     /* planner thresholds (docs/frame.md; defaults SL_FRAME_* of host/plan/frame.h) */
     double lobe_threshold;    /* quality.lobe_threshold: skip lobes below this power share */
     double point_threshold;   /* quality.point_threshold: per point, skip lobe j if T_j share < */
+    double shading_refine;    /* quality.shading_refine: vertex rate, cut a segment whose T changes
+                                 by more than this factor (<= 1: never) */
     double ms_auto_threshold; /* quality.ms_auto_threshold: "auto" MS when ms share >= this */
     double auto_fragment_px;  /* quality.auto_fragment_px: shading_rate auto -> fragment above */
     int broad_lobes;          /* quality.broad_lobes: SL_BROAD_SUBDIVIDE (default) or _SPLIT */

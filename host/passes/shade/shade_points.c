@@ -3,6 +3,7 @@
 #include "passes/shade/shade_points.h"
 #include "base/common.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -81,6 +82,86 @@ void sl_shade_points_build(const sl_hair *h, const sl_kbuf_view *kb, int k, sl_s
     p->n = n;
 }
 
+/* Parts the pair (lo, hi) is cut into: D (the T- and share-weighted mean log ratio of the
+ * lobes' transmittance at its two ends) over ln(ratio), rounded up. */
+static int refine_parts(const float *T, size_t n, int nlobes, const double *share, uint32_t ilo,
+                        uint32_t ihi, double ln_ratio) {
+    double num = 0, den = 0;
+    for (int j = 0; j < nlobes; j++) {
+        const float a = T[(size_t)j * n + ilo], b = T[(size_t)j * n + ihi];
+        const double ta = a > SL_SHADE_REFINE_TFLOOR ? a : SL_SHADE_REFINE_TFLOOR;
+        const double tb = b > SL_SHADE_REFINE_TFLOOR ? b : SL_SHADE_REFINE_TFLOOR;
+        const double wgt = share[j] * (ta > tb ? ta : tb);
+        num += wgt * fabs(log(ta / tb));
+        den += wgt;
+    }
+    if (!(den > 0)) return 1;
+    const double parts = ceil(num / den / ln_ratio - 1e-9);
+    return parts < 1 ? 1 : (parts > SL_SHADE_REFINE_MAX ? SL_SHADE_REFINE_MAX : (int)parts);
+}
+
+size_t sl_shade_points_refine(const sl_hair *h, const sl_kbuf_view *kb, int k, sl_shade_map *m,
+                              sl_shade_points *p, const float *T, int nlobes, const double *share,
+                              double ratio) {
+    free(m->sub_m);
+    free(m->sub_first);
+    m->sub_m = NULL;
+    m->sub_first = NULL;
+    if (k < 1 || !(ratio > 1)) return 0;
+    const size_t npx = (size_t)kb->w * kb->h, n0 = p->n;
+    const double ln_ratio = log(ratio);
+    m->sub_m = sl_calloc(h->num_points ? h->num_points : 1, sizeof *m->sub_m);
+    m->sub_first = sl_malloc((h->num_points ? h->num_points : 1) * sizeof *m->sub_first);
+    size_t added = 0;
+    /* pass 1: the parts of each pair the K-buffer uses (sub_m 0: not visited) */
+    for (size_t px = 0; px < npx; px++)
+        for (int i = 0; i < kb->kcount[px]; i++) {
+            uint32_t lo, hi;
+            anchors_of(h, m->strand_of, kb->kbuf[px * kb->K + i].seg, k, &lo, &hi);
+            if (m->sub_m[lo]) continue;
+            int parts =
+                hi > lo ? refine_parts(T, n0, nlobes, share, m->anchor[lo], m->anchor[hi], ln_ratio)
+                        : 1;
+            m->sub_m[lo] = (uint8_t)parts;
+            m->sub_first[lo] = (uint32_t)(n0 + added);
+            added += (size_t)parts - 1;
+        }
+    if (!added) {
+        free(m->sub_m);
+        free(m->sub_first);
+        m->sub_m = NULL;
+        m->sub_first = NULL;
+        return 0;
+    }
+    p->pos = sl_realloc(p->pos, (n0 + added) * 3 * sizeof *p->pos);
+    p->tan = sl_realloc(p->tan, (n0 + added) * 3 * sizeof *p->tan);
+    p->strand = sl_realloc(p->strand, (n0 + added) * sizeof *p->strand);
+    /* pass 2: the inner points, evenly in the strand's point parameter between the anchors
+     * (the parameter sl_shade_entry interpolates in), on the polyline, with their segment's
+     * tangent */
+    for (uint32_t lo = 0; lo < h->num_points; lo++) {
+        const int parts = m->sub_m[lo];
+        if (parts < 2) continue;
+        const uint32_t s = m->strand_of[lo], first = h->strand_first[s];
+        const uint32_t last = h->strand_first[s + 1] - 1;
+        const uint32_t hi = lo + (uint32_t)k < last ? lo + (uint32_t)k : last;
+        for (int q = 1; q < parts; q++) {
+            const double u = (double)(hi - lo) * q / parts;
+            uint32_t seg = lo + (uint32_t)u;
+            if (seg >= hi) seg = hi - 1;
+            const double t = u - (double)(seg - lo);
+            const size_t o = m->sub_first[lo] + (size_t)q - 1;
+            for (int c = 0; c < 3; c++)
+                p->pos[3 * o + c] =
+                    h->pos[3 * seg + c] + t * (h->pos[3 * seg + 3 + c] - h->pos[3 * seg + c]);
+            sl_hair_tangent(h, s, seg - first, p->tan + 3 * o);
+            p->strand[o] = s;
+        }
+    }
+    p->n = n0 + added;
+    return added;
+}
+
 void sl_shade_entry(const sl_hair *h, const sl_kbuf_view *kb, int k, const sl_shade_map *m,
                     const sl_shade_points *p, size_t px, int i, float *v) {
     const sl_kfrag *f = &kb->kbuf[px * kb->K + i];
@@ -93,8 +174,18 @@ void sl_shade_entry(const sl_hair *h, const sl_kbuf_view *kb, int k, const sl_sh
     anchors_of(h, m->strand_of, f->seg, k, &lo, &hi);
     float w = hi > lo ? ((float)(f->seg - lo) + f->t) / (float)(hi - lo) : 0.0f;
     w = w < 0 ? 0 : (w > 1 ? 1 : w);
-    const float *a = p->out + (size_t)SL_SHADE_FLOATS * m->anchor[lo];
-    const float *b = p->out + (size_t)SL_SHADE_FLOATS * m->anchor[hi];
+    uint32_t ia = m->anchor[lo], ib = m->anchor[hi];
+    const int parts = m->sub_m ? m->sub_m[lo] : 1;
+    if (parts > 1) { /* refined: the part w falls in, between its two ends */
+        const float u = w * (float)parts;
+        int q = (int)u;
+        if (q > parts - 1) q = parts - 1;
+        w = u - (float)q;
+        if (q > 0) ia = m->sub_first[lo] + (uint32_t)q - 1;
+        if (q < parts - 1) ib = m->sub_first[lo] + (uint32_t)q;
+    }
+    const float *a = p->out + (size_t)SL_SHADE_FLOATS * ia;
+    const float *b = p->out + (size_t)SL_SHADE_FLOATS * ib;
     for (int q = 0; q < SL_SHADE_FLOATS; q++)
         v[q] = a[q] + w * (b[q] - a[q]);
 }
@@ -113,5 +204,7 @@ void sl_shade_map_free(sl_shade_map *m) {
     free(m->strand_of);
     free(m->anchor);
     free(m->entry);
+    free(m->sub_first);
+    free(m->sub_m);
     memset(m, 0, sizeof *m);
 }

@@ -31,6 +31,12 @@ typedef struct sl_shade_map {
     uint32_t *strand_of; /* per hair point */
     uint32_t *anchor;    /* per hair point: shading point index, UINT32_MAX if not shaded */
     uint32_t *entry;     /* fragment rate: per K-buffer slot */
+    /* vertex rate, refined (sl_shade_points_refine), per hair point that starts an anchor pair:
+     * the pair's interval cut into sub_m[lo] >= 1 equal parts in the strand's parameter, whose
+     * inner ends are the shading points sub_first[lo] .. sub_first[lo] + sub_m[lo] - 2; NULL when
+     * nothing was refined */
+    uint32_t *sub_first;
+    uint8_t *sub_m;
 } sl_shade_map;
 
 /* The K-buffer of a view pass: w x h pixels, K entries each, kcount[px] filled. */
@@ -44,6 +50,22 @@ typedef struct sl_kbuf_view {
  * strand, n) and the map m (strand_of, anchor or entry). */
 void sl_shade_points_build(const sl_hair *h, const sl_kbuf_view *kb, int k, sl_shade_map *m,
                            sl_shade_points *p);
+/* Most parts an anchor pair's interval is cut into by the refinement. */
+#define SL_SHADE_REFINE_MAX 8
+/* Floor of a transmittance in the refinement's log ratios (a lobe that is dark at both ends
+ * carries nothing, and its weight below is its larger T). */
+#define SL_SHADE_REFINE_TFLOOR 1e-4f
+
+/* Refinement of vertex-rate shading (rate k >= 1) where the transmittance changes along a
+ * strand faster than linear interpolation follows (docs/frame.md, "Refined vertex rate"): for
+ * every anchor pair the view pass uses, with T (nlobes x p->n, index j p->n + i) and the lobes'
+ * power shares, the share- and T-weighted mean |ln T_j(lo) - ln T_j(hi)| = D; the pair is cut
+ * into m = ceil(D / ln ratio) parts (<= SL_SHADE_REFINE_MAX) and its m - 1 inner points are
+ * appended to p (pos, tan, strand; p->T and p->B are left to the caller). Fills m->sub_first
+ * and m->sub_m. Returns the number of points added. */
+size_t sl_shade_points_refine(const sl_hair *h, const sl_kbuf_view *kb, int k, sl_shade_map *m,
+                              sl_shade_points *p, const float *T, int nlobes, const double *share,
+                              double ratio);
 /* The shade vector (SL_SHADE_FLOATS) of K-buffer entry i of pixel px. */
 void sl_shade_entry(const sl_hair *h, const sl_kbuf_view *kb, int k, const sl_shade_map *m,
                     const sl_shade_points *p, size_t px, int i, float *v);
