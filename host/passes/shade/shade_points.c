@@ -95,7 +95,12 @@ static int refine_parts(const float *T, size_t n, int nlobes, const double *shar
         num += wgt * fabs(log(ta / tb));
         den += wgt;
     }
-    if (!(den > 0)) return 1;
+    /* a pair in deep shadow at both ends: its interpolation error is below the gate's share of
+     * a lit fiber's radiance, not worth shading points */
+    double all = 0;
+    for (int j = 0; j < nlobes; j++)
+        all += share[j];
+    if (!(den > 0) || den < SL_SHADE_REFINE_GATE * all) return 1;
     const double parts = ceil(num / den / ln_ratio - 1e-9);
     return parts < 1 ? 1 : (parts > SL_SHADE_REFINE_MAX ? SL_SHADE_REFINE_MAX : (int)parts);
 }

@@ -56,10 +56,17 @@ void sl_shade_points_build(const sl_hair *h, const sl_kbuf_view *kb, int k, sl_s
  * carries nothing, and its weight below is its larger T). */
 #define SL_SHADE_REFINE_TFLOOR 1e-4f
 
+/* Pairs whose share-weighted larger T (the lobes' light reaching either end, as a share of all
+ * of it) is below this are not refined: deep in the hair the chord's error is a few % of a lit
+ * fiber's radiance at most. On the goal scene's orbit frame it keeps 20 % of the inner points;
+ * the report scenes' figures do not move (docs/frame.md, "Refined vertex rate"). */
+#define SL_SHADE_REFINE_GATE 0.05
+
 /* Refinement of vertex-rate shading (rate k >= 1) where the transmittance changes along a
  * strand faster than linear interpolation follows (docs/frame.md, "Refined vertex rate"): for
  * every anchor pair the view pass uses, with T (nlobes x p->n, index j p->n + i) and the lobes'
- * power shares, the share- and T-weighted mean |ln T_j(lo) - ln T_j(hi)| = D; the pair is cut
+ * power shares, the share- and T-weighted mean |ln T_j(lo) - ln T_j(hi)| = D (pairs under
+ * SL_SHADE_REFINE_GATE excepted); the pair is cut
  * into m = ceil(D / ln ratio) parts (<= SL_SHADE_REFINE_MAX) and its m - 1 inner points are
  * appended to p (pos, tan, strand; p->T and p->B are left to the caller). Fills m->sub_first
  * and m->sub_m. Returns the number of points added. */

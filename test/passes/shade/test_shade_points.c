@@ -90,7 +90,7 @@ TEST(shade_refine_parts_points_and_interpolation) {
     refine_fx_free(&f);
 }
 
-TEST(shade_refine_off_and_flat_add_nothing) {
+TEST(shade_refine_off_flat_and_dark_add_nothing) {
     refine_fx f;
     refine_fx_init(&f);
     const double share[1] = {1};
@@ -105,5 +105,15 @@ TEST(shade_refine_off_and_flat_add_nothing) {
           2 * (SL_SHADE_REFINE_MAX - 1));
     CHECK(f.m.sub_m[0] == SL_SHADE_REFINE_MAX && f.m.sub_m[1] == SL_SHADE_REFINE_MAX &&
           f.m.sub_m[2] == 1);
+    refine_fx_free(&f);
+    /* deep shadow: a 10x drop whose larger end is under the gate is left alone, one just above
+     * it is cut */
+    refine_fx_init(&f);
+    for (int v = 0; v < 4; v++)
+        T[f.m.anchor[v]] = v == 1 ? 0.9f * SL_SHADE_REFINE_GATE : 0.09f * SL_SHADE_REFINE_GATE;
+    CHECK(sl_shade_points_refine(&f.h, &f.kb, 1, &f.m, &f.p, T, 1, share, 3.0) == 0);
+    for (int v = 0; v < 4; v++)
+        T[f.m.anchor[v]] = v == 1 ? 1.1f * SL_SHADE_REFINE_GATE : 0.11f * SL_SHADE_REFINE_GATE;
+    CHECK(sl_shade_points_refine(&f.h, &f.kb, 1, &f.m, &f.p, T, 1, share, 3.0) == 4);
     refine_fx_free(&f);
 }
