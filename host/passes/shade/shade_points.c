@@ -54,32 +54,59 @@ void sl_shade_points_build(const sl_hair *h, const sl_kbuf_view *kb, int k, sl_s
                 ADD_POINT(x, t, s);
             }
     } else {
-        m->anchor = sl_malloc((size_t)h->num_points * sizeof *m->anchor);
-        for (uint32_t i = 0; i < h->num_points; i++)
-            m->anchor[i] = 0;
+        /* roles of each vertex: 1 = starts a pair the K-buffer uses, 2 = ends one */
+        uint8_t *role = sl_calloc(h->num_points ? h->num_points : 1, sizeof *role);
         for (size_t px = 0; px < npx; px++)
             for (int i = 0; i < kb->kcount[px]; i++) {
                 uint32_t seg = kb->kbuf[px * K + i].seg, lo, hi;
                 anchors_of(h, m->strand_of, seg, k, &lo, &hi);
-                m->anchor[lo] = m->anchor[hi] = 1;
+                role[lo] |= 1;
+                role[hi] |= 2;
             }
+        m->anchor = sl_malloc((size_t)h->num_points * sizeof *m->anchor);
+        if (k == 1) m->anchor_end = sl_malloc((size_t)h->num_points * sizeof *m->anchor_end);
+        const float cos_split = cosf(SL_SHADE_SPLIT_DEG * 3.14159265f / 180.0f);
         for (uint32_t i = 0; i < h->num_points; i++) {
-            if (!m->anchor[i]) {
-                m->anchor[i] = UINT32_MAX;
-                continue;
-            }
-            uint32_t s = m->strand_of[i];
+            m->anchor[i] = UINT32_MAX;
+            if (m->anchor_end) m->anchor_end[i] = UINT32_MAX;
+            if (!role[i]) continue;
+            uint32_t s = m->strand_of[i], a = h->strand_first[s], b = h->strand_first[s + 1];
             double x[3];
             for (int q = 0; q < 3; q++)
                 x[q] = h->pos[3 * i + q];
             float t[3];
-            sl_hair_point_tangent(h, s, i - h->strand_first[s], t);
+            if (m->anchor_end && i > a && i + 1 < b) {
+                /* a bent vertex between two visible segments: each segment's end is shaded with
+                 * its own tangent, as the fibers are cylinders along the segments */
+                float tin[3], tout[3];
+                sl_hair_tangent(h, s, i - 1 - a, tin);
+                sl_hair_tangent(h, s, i - a, tout);
+                if (tin[0] * tout[0] + tin[1] * tout[1] + tin[2] * tout[2] < cos_split) {
+                    if (role[i] & 2) {
+                        m->anchor_end[i] = (uint32_t)n;
+                        ADD_POINT(x, tin, s);
+                    }
+                    if (role[i] & 1) {
+                        m->anchor[i] = (uint32_t)n;
+                        ADD_POINT(x, tout, s);
+                    }
+                    continue;
+                }
+            }
+            sl_hair_point_tangent(h, s, i - a, t);
             m->anchor[i] = (uint32_t)n;
+            if (m->anchor_end) m->anchor_end[i] = (uint32_t)n;
             ADD_POINT(x, t, s);
         }
+        free(role);
     }
 #undef ADD_POINT
     p->n = n;
+}
+
+/* The shading point that ends a pair at vertex hi. */
+static uint32_t pair_end(const sl_shade_map *m, uint32_t hi) {
+    return m->anchor_end ? m->anchor_end[hi] : m->anchor[hi];
 }
 
 /* Parts the pair (lo, hi) is cut into: D (the T- and share-weighted mean log ratio of the
@@ -124,9 +151,9 @@ size_t sl_shade_points_refine(const sl_hair *h, const sl_kbuf_view *kb, int k, s
             uint32_t lo, hi;
             anchors_of(h, m->strand_of, kb->kbuf[px * kb->K + i].seg, k, &lo, &hi);
             if (m->sub_m[lo]) continue;
-            int parts =
-                hi > lo ? refine_parts(T, n0, nlobes, share, m->anchor[lo], m->anchor[hi], ln_ratio)
-                        : 1;
+            int parts = hi > lo ? refine_parts(T, n0, nlobes, share, m->anchor[lo], pair_end(m, hi),
+                                               ln_ratio)
+                                : 1;
             m->sub_m[lo] = (uint8_t)parts;
             m->sub_first[lo] = (uint32_t)(n0 + added);
             added += (size_t)parts - 1;
@@ -179,7 +206,7 @@ void sl_shade_entry(const sl_hair *h, const sl_kbuf_view *kb, int k, const sl_sh
     anchors_of(h, m->strand_of, f->seg, k, &lo, &hi);
     float w = hi > lo ? ((float)(f->seg - lo) + f->t) / (float)(hi - lo) : 0.0f;
     w = w < 0 ? 0 : (w > 1 ? 1 : w);
-    uint32_t ia = m->anchor[lo], ib = m->anchor[hi];
+    uint32_t ia = m->anchor[lo], ib = pair_end(m, hi);
     const int parts = m->sub_m ? m->sub_m[lo] : 1;
     if (parts > 1) { /* refined: the part w falls in, between its two ends */
         const float u = w * (float)parts;
@@ -211,5 +238,6 @@ void sl_shade_map_free(sl_shade_map *m) {
     free(m->entry);
     free(m->sub_first);
     free(m->sub_m);
+    free(m->anchor_end);
     memset(m, 0, sizeof *m);
 }

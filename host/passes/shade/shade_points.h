@@ -30,7 +30,11 @@ typedef struct sl_shade_points {
 typedef struct sl_shade_map {
     uint32_t *strand_of; /* per hair point */
     uint32_t *anchor;    /* per hair point: shading point index, UINT32_MAX if not shaded */
-    uint32_t *entry;     /* fragment rate: per K-buffer slot */
+    /* rate 1: per hair point, the shading point where a pair ends there (the same as anchor[i]
+     * unless the vertex is bent: then each segment's end has its own point and tangent); NULL
+     * at rates k > 1 (anchor serves both) */
+    uint32_t *anchor_end;
+    uint32_t *entry; /* fragment rate: per K-buffer slot */
     /* vertex rate, refined (sl_shade_points_refine), per hair point that starts an anchor pair:
      * the pair's interval cut into sub_m[lo] >= 1 equal parts in the strand's parameter, whose
      * inner ends are the shading points sub_first[lo] .. sub_first[lo] + sub_m[lo] - 2; NULL when
@@ -50,6 +54,10 @@ typedef struct sl_kbuf_view {
  * strand, n) and the map m (strand_of, anchor or entry). */
 void sl_shade_points_build(const sl_hair *h, const sl_kbuf_view *kb, int k, sl_shade_map *m,
                            sl_shade_points *p);
+/* Vertex rate 1: a vertex whose two segments bend by more than this (degrees) is shaded once
+ * per segment, with that segment's tangent, instead of once with their mean (docs/frame.md,
+ * "Bent vertices"). */
+#define SL_SHADE_SPLIT_DEG 10.0f
 /* Most parts an anchor pair's interval is cut into by the refinement. */
 #define SL_SHADE_REFINE_MAX 8
 /* Floor of a transmittance in the refinement's log ratios (a lobe that is dark at both ends

@@ -117,3 +117,41 @@ TEST(shade_refine_off_flat_and_dark_add_nothing) {
     CHECK(sl_shade_points_refine(&f.h, &f.kb, 1, &f.m, &f.p, T, 1, share, 3.0) == 4);
     refine_fx_free(&f);
 }
+
+TEST(shade_points_bent_vertex_has_a_point_per_segment) {
+    /* vertex 1 bends by 30 deg (more than SL_SHADE_SPLIT_DEG): each of its segments' ends is
+     * shaded with that segment's tangent; vertex 2 bends by 2 deg: one point, the mean tangent */
+    refine_fx f;
+    refine_fx_init(&f);
+    sl_shade_points_free(&f.p);
+    sl_shade_map_free(&f.m);
+    const double a1 = 30 * 3.14159265358979 / 180, a2 = 32 * 3.14159265358979 / 180;
+    f.h.pos[3 * 2] = (float)(1 + cos(a1)), f.h.pos[3 * 2 + 1] = (float)sin(a1);
+    f.h.pos[3 * 3] = (float)(f.h.pos[3 * 2] + cos(a2));
+    f.h.pos[3 * 3 + 1] = (float)(f.h.pos[3 * 2 + 1] + sin(a2));
+    f.m.strand_of = calloc(4, sizeof *f.m.strand_of);
+    sl_shade_points_build(&f.h, &f.kb, 1, &f.m, &f.p);
+    CHECK(f.p.n == 5);
+    CHECK(f.m.anchor_end != NULL);
+    CHECK(f.m.anchor_end[0] == f.m.anchor[0] && f.m.anchor[3] == f.m.anchor_end[3]);
+    CHECK(f.m.anchor_end[1] != f.m.anchor[1] && f.m.anchor_end[2] == f.m.anchor[2]);
+    const float *tin = f.p.tan + 3 * f.m.anchor_end[1], *tout = f.p.tan + 3 * f.m.anchor[1];
+    CHECK_MSG(fabsf(tin[0] - 1) < 1e-6f && fabsf(tin[1]) < 1e-6f, "in %g %g", tin[0], tin[1]);
+    CHECK_MSG(fabsf(tout[0] - (float)cos(a1)) < 1e-6f && fabsf(tout[1] - (float)sin(a1)) < 1e-6f,
+              "out %g %g", tout[0], tout[1]);
+    const float *tm = f.p.tan + 3 * f.m.anchor[2];
+    CHECK(fabsf(tm[0] - (float)cos(0.5 * (a1 + a2))) < 1e-5f);
+    /* an entry at the end of segment 0 reads the segment-0 point of vertex 1, one at the start
+     * of segment 1 the segment-1 point: out[0] = the point's tangent x */
+    f.p.out = calloc(SL_SHADE_FLOATS * f.p.n, sizeof *f.p.out);
+    for (size_t i = 0; i < f.p.n; i++)
+        f.p.out[SL_SHADE_FLOATS * i] = f.p.tan[3 * i];
+    float v[SL_SHADE_FLOATS];
+    f.kbuf[0].t = 1.0f;
+    f.kbuf[1].t = 0.0f;
+    sl_shade_entry(&f.h, &f.kb, 1, &f.m, &f.p, 0, 0, v);
+    CHECK(fabsf(v[0] - 1) < 1e-6f);
+    sl_shade_entry(&f.h, &f.kb, 1, &f.m, &f.p, 1, 0, v);
+    CHECK(fabsf(v[0] - (float)cos(a1)) < 1e-6f);
+    refine_fx_free(&f);
+}
