@@ -79,6 +79,41 @@ static int lobe_sums(sl_renderer *r, size_t n, const double *pos, int nused, flo
     return rc;
 }
 
+/* lobe_sums at the points of p, each position looked up once: a bent vertex's two shading
+ * points (one per segment, sl_shade_points_build) lie at one position, one after the other. */
+static int lobe_sums_unique(sl_renderer *r, const sl_shade_points *p, int nused, float **T,
+                            float **B, sl_err *e) {
+    const size_t n = p->n;
+    uint32_t *u = sl_malloc((n + 1) * sizeof *u);
+    double *pos = sl_malloc((3 * n + 1) * sizeof *pos);
+    size_t nu = 0;
+    for (size_t i = 0; i < n; i++) {
+        const double *x = p->pos + 3 * i;
+        if (nu && x[0] == pos[3 * nu - 3] && x[1] == pos[3 * nu - 2] && x[2] == pos[3 * nu - 1]) {
+            u[i] = (uint32_t)(nu - 1);
+            continue;
+        }
+        memcpy(pos + 3 * nu, x, 3 * sizeof *x);
+        u[i] = (uint32_t)nu++;
+    }
+    float *tu = NULL, *bu = NULL;
+    int rc = lobe_sums(r, nu, pos, nused, &tu, B ? &bu : NULL, e);
+    if (!rc) {
+        *T = sl_malloc(((size_t)nused * n + 1) * sizeof **T);
+        if (B) *B = sl_malloc(((size_t)nused * n + 1) * sizeof **B);
+        for (int j = 0; j < nused; j++)
+            for (size_t i = 0; i < n; i++) {
+                (*T)[(size_t)j * n + i] = tu[(size_t)j * nu + u[i]];
+                if (B) (*B)[(size_t)j * n + i] = bu[(size_t)j * nu + u[i]];
+            }
+    }
+    free(u);
+    free(pos);
+    free(tu);
+    free(bu);
+    return rc;
+}
+
 /* Appends to the nlobes x n0 array *a (index j n0 + i) the nlobes x nadd array b: the
  * nlobes x (n0 + nadd) array of both, in place of *a. */
 static void append_lobe_rows(float **a, const float *b, int nlobes, size_t n0, size_t nadd) {
@@ -132,7 +167,7 @@ int sl_pass_lookup(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     pts->out = sl_malloc((pts->n * SL_SHADE_FLOATS + 1) * sizeof *pts->out);
     /* T_j toward each lobe; with MS, the optical depth of the hair behind each point too (the
      * stack of the local backscattering, docs/volume.md) */
-    if (lobe_sums(r, pts->n, pts->pos, nused, &pts->T, r->ms_on ? &pts->B : NULL, e)) return -1;
+    if (lobe_sums_unique(r, pts, nused, &pts->T, r->ms_on ? &pts->B : NULL, e)) return -1;
     if (refine(r, in->s, h, &kb, e)) return -1;
     if (r->ms_on && r->have_vol && r->ftex.nlobes == nused &&
         (!r->ftex.tau || r->tau_light_key != r->key[SL_PASSID_LIGHT])) {
