@@ -21,6 +21,16 @@ typedef struct frame_tiny {
     sl_camera cam;
 } frame_tiny;
 
+/* The camera of t framing t's hair (its bounds' centre) at 64 x 48. */
+static inline void frame_tiny_frame_camera(frame_tiny *t) {
+    float lo[3], hi[3];
+    sl_hair_bounds(&t->h, lo, hi);
+    double target[3];
+    for (int k = 0; k < 3; k++)
+        target[k] = 0.5 * (lo[k] + hi[k]);
+    sl_camera_setup(&t->cam, NULL, target, t->s.up, t->s.fov_deg, 64, 48, lo, hi);
+}
+
 /* Default scene at 64 x 48, `strands` wavy strands (10 points, seed 3), 4 lobes of different
  * widths and colours, the camera framing the hair. The caller sets the material it needs. */
 static inline int frame_tiny_setup(frame_tiny *t, int strands) {
@@ -41,12 +51,7 @@ static inline int frame_tiny_setup(frame_tiny *t, int strands) {
         for (int c = 0; c < 3; c++)
             t->l.lobe[j].rgb[c] = 1.0 + 0.5 * j + 0.1 * c;
     }
-    float lo[3], hi[3];
-    sl_hair_bounds(&t->h, lo, hi);
-    double target[3];
-    for (int k = 0; k < 3; k++)
-        target[k] = 0.5 * (lo[k] + hi[k]);
-    sl_camera_setup(&t->cam, NULL, target, t->s.up, t->s.fov_deg, 64, 48, lo, hi);
+    frame_tiny_frame_camera(t);
     return 0;
 }
 

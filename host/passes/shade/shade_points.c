@@ -17,6 +17,12 @@ static void anchors_of(const sl_hair *h, const uint32_t *strand_of, uint32_t pt,
     }
 }
 
+/* The point at parameter t of segment seg (points seg, seg + 1). */
+static void segment_point(const sl_hair *h, uint32_t seg, double t, double x[3]) {
+    for (int q = 0; q < 3; q++)
+        x[q] = h->pos[3 * seg + q] + t * (h->pos[3 * seg + 3 + q] - h->pos[3 * seg + q]);
+}
+
 void sl_shade_points_build(const sl_hair *h, const sl_kbuf_view *kb, int k, sl_shade_map *m,
                            sl_shade_points *p) {
     size_t npx = (size_t)kb->w * kb->h;
@@ -45,9 +51,7 @@ void sl_shade_points_build(const sl_hair *h, const sl_kbuf_view *kb, int k, sl_s
                 const sl_kfrag *f = &kb->kbuf[px * K + i];
                 uint32_t s = m->strand_of[f->seg];
                 double x[3];
-                for (int q = 0; q < 3; q++)
-                    x[q] = h->pos[3 * f->seg + q] +
-                           (double)f->t * (h->pos[3 * f->seg + 3 + q] - h->pos[3 * f->seg + q]);
+                segment_point(h, f->seg, (double)f->t, x);
                 float t[3];
                 sl_hair_tangent(h, s, f->seg - h->strand_first[s], t);
                 m->entry[px * K + i] = (uint32_t)n;
@@ -112,7 +116,7 @@ static uint32_t pair_end(const sl_shade_map *m, uint32_t hi) {
 /* Parts the pair (lo, hi) is cut into: D (the T- and share-weighted mean log ratio of the
  * lobes' transmittance at its two ends) over ln(ratio), rounded up. */
 static int refine_parts(const float *T, size_t n, int nlobes, const double *share, uint32_t ilo,
-                        uint32_t ihi, double ln_ratio) {
+                        uint32_t ihi, double ln_ratio, double gate) {
     double num = 0, den = 0;
     for (int j = 0; j < nlobes; j++) {
         const float a = T[(size_t)j * n + ilo], b = T[(size_t)j * n + ihi];
@@ -122,26 +126,32 @@ static int refine_parts(const float *T, size_t n, int nlobes, const double *shar
         num += wgt * fabs(log(ta / tb));
         den += wgt;
     }
-    /* a pair in deep shadow at both ends: its interpolation error is below the gate's share of
-     * a lit fiber's radiance, not worth shading points */
-    double all = 0;
-    for (int j = 0; j < nlobes; j++)
-        all += share[j];
-    if (!(den > 0) || den < SL_SHADE_REFINE_GATE * all) return 1;
+    /* a pair in deep shadow at both ends (den under gate = SL_SHADE_REFINE_GATE x the shares'
+     * sum): its interpolation error is below the gate's share of a lit fiber's radiance, not
+     * worth shading points */
+    if (!(den > 0) || den < gate) return 1;
     const double parts = ceil(num / den / ln_ratio - 1e-9);
     return parts < 1 ? 1 : (parts > SL_SHADE_REFINE_MAX ? SL_SHADE_REFINE_MAX : (int)parts);
+}
+
+static void clear_refinement(sl_shade_map *m) {
+    free(m->sub_m);
+    free(m->sub_first);
+    m->sub_m = NULL;
+    m->sub_first = NULL;
 }
 
 size_t sl_shade_points_refine(const sl_hair *h, const sl_kbuf_view *kb, int k, sl_shade_map *m,
                               sl_shade_points *p, const float *T, int nlobes, const double *share,
                               double ratio) {
-    free(m->sub_m);
-    free(m->sub_first);
-    m->sub_m = NULL;
-    m->sub_first = NULL;
+    clear_refinement(m);
     if (k < 1 || !(ratio > 1)) return 0;
     const size_t npx = (size_t)kb->w * kb->h, n0 = p->n;
     const double ln_ratio = log(ratio);
+    double gate = 0;
+    for (int j = 0; j < nlobes; j++)
+        gate += share[j];
+    gate *= SL_SHADE_REFINE_GATE;
     m->sub_m = sl_calloc(h->num_points ? h->num_points : 1, sizeof *m->sub_m);
     m->sub_first = sl_malloc((h->num_points ? h->num_points : 1) * sizeof *m->sub_first);
     size_t added = 0;
@@ -152,17 +162,14 @@ size_t sl_shade_points_refine(const sl_hair *h, const sl_kbuf_view *kb, int k, s
             anchors_of(h, m->strand_of, kb->kbuf[px * kb->K + i].seg, k, &lo, &hi);
             if (m->sub_m[lo]) continue;
             int parts = hi > lo ? refine_parts(T, n0, nlobes, share, m->anchor[lo], pair_end(m, hi),
-                                               ln_ratio)
+                                               ln_ratio, gate)
                                 : 1;
             m->sub_m[lo] = (uint8_t)parts;
             m->sub_first[lo] = (uint32_t)(n0 + added);
             added += (size_t)parts - 1;
         }
     if (!added) {
-        free(m->sub_m);
-        free(m->sub_first);
-        m->sub_m = NULL;
-        m->sub_first = NULL;
+        clear_refinement(m);
         return 0;
     }
     p->pos = sl_realloc(p->pos, (n0 + added) * 3 * sizeof *p->pos);
@@ -174,19 +181,16 @@ size_t sl_shade_points_refine(const sl_hair *h, const sl_kbuf_view *kb, int k, s
     for (uint32_t lo = 0; lo < h->num_points; lo++) {
         const int parts = m->sub_m[lo];
         if (parts < 2) continue;
-        const uint32_t s = m->strand_of[lo], first = h->strand_first[s];
-        const uint32_t last = h->strand_first[s + 1] - 1;
-        const uint32_t hi = lo + (uint32_t)k < last ? lo + (uint32_t)k : last;
+        const uint32_t s = m->strand_of[lo];
+        uint32_t lo2, hi;
+        anchors_of(h, m->strand_of, lo, k, &lo2, &hi); /* lo starts its pair: lo2 == lo */
         for (int q = 1; q < parts; q++) {
             const double u = (double)(hi - lo) * q / parts;
             uint32_t seg = lo + (uint32_t)u;
             if (seg >= hi) seg = hi - 1;
-            const double t = u - (double)(seg - lo);
             const size_t o = m->sub_first[lo] + (size_t)q - 1;
-            for (int c = 0; c < 3; c++)
-                p->pos[3 * o + c] =
-                    h->pos[3 * seg + c] + t * (h->pos[3 * seg + 3 + c] - h->pos[3 * seg + c]);
-            sl_hair_tangent(h, s, seg - first, p->tan + 3 * o);
+            segment_point(h, seg, u - (double)(seg - lo), p->pos + 3 * o);
+            sl_hair_tangent(h, s, seg - h->strand_first[s], p->tan + 3 * o);
             p->strand[o] = s;
         }
     }
