@@ -364,19 +364,13 @@ int sl_renderer_frame(sl_renderer *r, const sl_scene *s, const sl_hair *h, const
     r->npass = 0;
     memset(out, 0, sizeof *out);
     const sl_material *mat = &s->material;
-    /* models deon and chiang: the d'Eon fast path (kernels/srbf_deon.h, srbf_chiang.h) shades;
-     * Xu's form and Ren's table exist for the Marschner model only, and so do the
-     * dual-scattering terms (docs/dual.md) */
+    /* models deon and chiang: the d'Eon fast path (kernels/srbf_deon.h, srbf_chiang.h) or Ren's
+     * table baked from it shades; Xu's form exists for the Marschner model only */
     const char *model = sl_material_model_name(mat->model);
     if (mat->model != SL_MODEL_MARSCHNER && r->o.srbf_method == SL_SRBF_METHOD_XU)
         return sl_fail(e,
                        "render: material model %s: --method xu exists for the Marschner model "
                        "only (%s shades with --method fast; docs/srbf.md)",
-                       model, model);
-    if (mat->model != SL_MODEL_MARSCHNER && r->o.srbf_method == SL_RENDER_SRBF_TABLE)
-        return sl_fail(e,
-                       "render: material model %s: the SRBF table exists for the Marschner "
-                       "model only (%s shades with --method fast; docs/srbf_ren.md)",
                        model, model);
     if (lobes->count < 1) return sl_fail(e, "render: the environment has no lobes");
     if (r->strand_sigma_a && r->strand_sigma_a_n != h->num_strands)

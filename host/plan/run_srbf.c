@@ -21,11 +21,11 @@ static int painted(const sl_renderer *r, const sl_material *m, const sl_shade_po
            q[2] != (float)m->sigma_a[2];
 }
 
-static void table_params(const sl_renderer *r, sl_srbf_ren_params *p) {
+static void table_params(const sl_renderer *r, const sl_material *mat, sl_srbf_ren_params *p) {
     if (r->o.table_params) {
         *p = *r->o.table_params;
     } else {
-        sl_srbf_ren_params_default(p);
+        sl_srbf_ren_params_for(mat, p);
         p->threads = r->o.threads;
     }
 }
@@ -38,7 +38,7 @@ static int ensure_table(sl_renderer *r, const sl_material *mat, int *state, sl_e
     }
     sl_frame_free_ren(r);
     sl_srbf_ren_params p;
-    table_params(r, &p);
+    table_params(r, mat, &p);
     if (sl_srbf_ren_get(r->dev, mat, &p, &r->ren, e)) return -1;
     r->have_ren = 1;
     *state = SL_PASS_RUN;
@@ -54,16 +54,6 @@ static int plan_srbf(sl_renderer *r, const sl_material *mat, double rows, double
     const char *paint_note = rows_painted > 0 ? "; rows of painted strands (per-strand sigma_a "
                                                 "other than the material's) use fast"
                                               : "";
-    if (mat->model != SL_MODEL_MARSCHNER && m == SL_RENDER_SRBF_AUTO) {
-        r->srbf_used = SL_SRBF_METHOD_FAST;
-        snprintf(r->srbf_why, sizeof r->srbf_why,
-                 "auto: fast (model %s: the d'Eon fast path%s; no table for it)",
-                 sl_material_model_name(mat->model),
-                 mat->model == SL_MODEL_CHIANG ? " with Chiang's azimuth" : "");
-        r->rec_state = SL_PASS_SKIPPED;
-        sl_frame_why(r, "no table: %s", r->srbf_why);
-        return 0;
-    }
     if (m == SL_SRBF_METHOD_XU || m == SL_SRBF_METHOD_FAST) {
         r->srbf_used = m;
         snprintf(r->srbf_why, sizeof r->srbf_why, "%s chosen (render --method %s)",
@@ -92,7 +82,7 @@ static int plan_srbf(sl_renderer *r, const sl_material *mat, double rows, double
         why = "auto: no rows to shade from a table: fast";
     } else {
         sl_srbf_ren_params p;
-        table_params(r, &p);
+        table_params(r, mat, &p);
         long left = (r->o.frames > 0 ? r->o.frames : 1) - r->frames_done;
         if (left < 1) left = 1;
         double build = sl_srbf_ren_build_rows(mat, &p), saved = SL_FRAME_TABLE_SAVING * rows * left;
@@ -115,8 +105,6 @@ static int plan_srbf(sl_renderer *r, const sl_material *mat, double rows, double
         }
     }
     if (use) {
-        if (mat->model != SL_MODEL_MARSCHNER)
-            return sl_fail(e, "render: the SRBF table exists for the Marschner model only");
         if (ensure_table(r, mat, &state, e)) return -1;
         r->srbf_used = SL_RENDER_SRBF_TABLE;
     } else {

@@ -1,8 +1,8 @@
 /* test_frame_table.c: Ren 2010's precomputed SRBF table in the frame (host/plan/frame.c plan_srbf,
- * host/passes/shade/frame_shade.c; docs/frame.md "SRBF method"): the auto planner's choice (fast for one frame,
- * a build when the frames pay for it, the disk cache and the table in memory reused, fast while
- * editing and for eccentric fibers), a frame from the table against the same frame from `fast`
- * (image error bounded by the table's own measured error), painted strands still on `fast`
+ * host/passes/shade/frame_shade.c; docs/frame.md "SRBF method"): the auto planner's choice (fast
+ * for one frame, a build when the frames pay for it, the disk cache and the table in memory reused,
+ * fast while editing and for eccentric fibers), a frame from the table against the same frame from
+ * `fast` (image error bounded by the table's own measured error), painted strands still on `fast`
  * while everything else stays bit-identical, and the OpenCL lookup against the C one. Tables
  * are small (fast to build) and cached in the test's own directory. */
 #include "test.h"
@@ -188,21 +188,28 @@ static double image_err(const sl_fbuf *a, const sl_fbuf *b, double *worst) {
     return den > 0 ? num / den : 0;
 }
 
-TEST(frame_table_image_vs_fast) {
-    /* The same frame from `fast` and from a mid-size table (48 x 12 x 16 x 12, 3 s budget).
-     * A pixel sums many (lobe, point) rows with the table's per-row error (docs/srbf_ren.md:
-     * default table median 0.01, p95 0.06 against fast; this coarser one's own self-check is
-     * printed on failure), mostly of both signs, so the relative image error sum|d|/sum|a|
-     * must be below 3x the table's median self-check error + 0.01 (the median is what most
-     * rows carry; 3x covers the heavier tail weighted by brightness), and the worst pixel below
-     * 2x the table's p95 relative to the brightest pixel. Alpha is untouched (the view pass does
-     * not depend on the method): bit-identical. */
+/* The same frame from `fast` and from a mid-size table (48 x 12 x 16 x 12, 3 s budget), for the
+ * material JSON mat (NULL: the fixture's Marschner material). A pixel sums many (lobe, point)
+ * rows with the table's per-row error (docs/srbf_ren.md: default table median 0.01, p95 0.06
+ * against fast; this coarser one's own self-check is printed on failure), mostly of both signs,
+ * so the relative image error sum|d|/sum|a| must be below 3x the table's median self-check
+ * error + 0.01 (the median is what most rows carry; 3x covers the heavier tail weighted by
+ * brightness), and the worst pixel below 2x the table's p95 relative to the brightest pixel.
+ * Alpha is untouched (the view pass does not depend on the method): bit-identical. */
+static void image_vs_fast(const char *name, const char *mat) {
     frame_tiny t;
     sl_device dev = {0};
     char dir[4200];
     sl_srbf_ren_params tp;
-    table_begin(&t, &dev, "image", dir, sizeof dir, &tp);
+    table_begin(&t, &dev, name, dir, sizeof dir, &tp);
+    if (mat) {
+        sl_err e = {{0}};
+        CHECK_MSG(sl_material_parse(mat, strlen(mat), "test", &t.s.material, &e) == 0, "%s", e.msg);
+    }
     tp.n_h = 48, tp.n_t = 12, tp.n_phi = 16, tp.n_lambda = 12; /* mid-size, 2 threads, dir */
+    /* the d'Eon family's t axis at the default's ratio (32 instead of 20 nodes,
+     * sl_srbf_ren_params_for) */
+    if (t.s.material.model != SL_MODEL_MARSCHNER) tp.n_t = 20;
     /* the fixture's own 4 lobes, as this bound was set for: subdivided (the default), the
      * coarse 12-lambda table meets 0.049 against 0.041 allowed (its self-check samples lambda
      * over the table's range, not the sub-lobes' widths) */
@@ -217,22 +224,41 @@ TEST(frame_table_image_vs_fast) {
     double worst, err = image_err(&a, &b, &worst);
     double tol = 3 * rt->ren.err_median + 0.01, tolw = 2 * rt->ren.err_p95;
     CHECK_MSG(err > 0 && err <= tol,
-              "image error %.4f (tolerance %.4f; table self-check median %.4f p95 %.4f)", err, tol,
-              rt->ren.err_median, rt->ren.err_p95);
-    CHECK_MSG(worst <= tolw, "worst pixel %.4f of the peak (tolerance %.4f)", worst, tolw);
+              "%s: image error %.4f (tolerance %.4f; table self-check median %.4f p95 %.4f)", name,
+              err, tol, rt->ren.err_median, rt->ren.err_p95);
+    CHECK_MSG(worst <= tolw, "%s: worst pixel %.4f of the peak (tolerance %.4f)", name, worst,
+              tolw);
     int alpha_same = 1;
     for (int i = 0; i < 64 * 48; i++)
         alpha_same &= a.rgba[4 * i + 3] == b.rgba[4 * i + 3];
     CHECK(alpha_same);
-    fprintf(
-        stderr,
-        "  table vs fast: image error %.4f, worst pixel %.4f (self-check median %.4f p95 %.4f)\n",
-        err, worst, rt->ren.err_median, rt->ren.err_p95);
+    fprintf(stderr,
+            "  %s: table vs fast: image error %.4f, worst pixel %.4f (self-check median %.4f p95 "
+            "%.4f)\n",
+            name, err, worst, rt->ren.err_median, rt->ren.err_p95);
     sl_fbuf_free(&a);
     sl_fbuf_free(&b);
     sl_renderer_free(rf);
     sl_renderer_free(rt);
     frame_tiny_close(&t, &dev);
+}
+
+TEST(frame_table_image_vs_fast) {
+    image_vs_fast("image", NULL);
+}
+
+/* The d'Eon-family models' tables (baked from the d'Eon fast path, chiang's azimuth; three
+ * colours of absorption, so the TT and TRT blocks hold rgb): the same bounds. */
+TEST(frame_table_chiang_image_vs_fast) {
+    image_vs_fast("image_chiang", "{\"model\": \"chiang\", \"melanin\": 0.3, \"roughness\": 0.3, "
+                                  "\"radial_roughness\": 0.3}");
+    image_vs_fast("image_chiang_smooth",
+                  "{\"model\": \"chiang\", \"melanin\": 0.1, \"roughness\": 0.12, "
+                  "\"radial_roughness\": 0.2}");
+}
+
+TEST(frame_table_deon_image_vs_fast) {
+    image_vs_fast("image_deon", "{\"model\": \"deon\", \"sigma_a\": [0.2, 0.35, 0.7]}");
 }
 
 TEST(frame_table_paint_only_painted_strands) {

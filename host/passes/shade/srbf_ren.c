@@ -2,10 +2,13 @@
  * kernels/srbf_ren_lookup.h for the axes, docs/srbf_ren.md for the choices and measurements),
  * and evaluates it.
  *
- * Every node is one `fast` evaluation (kernels/srbf_fast.h) per mode and channel: the modes have
- * their own warped h axis, so a node of the TT block is not a node of the R block. Rows go to
- * slcl_srbf_batch (device) or slc_srbf_batch (C, split over threads) in chunks, which drive the
- * progress bar. The OpenCL lookup is srbf_ren_cl.c. */
+ * Marschner: every node is one `fast` evaluation (kernels/srbf_fast.h) per mode and channel: the
+ * modes have their own warped h axis, so a node of the TT block is not a node of the R block.
+ * Rows go to slcl_srbf_batch (device) or slc_srbf_batch (C, split over threads) in chunks, which
+ * drive the progress bar. Models deon and chiang: every node is one RGB row of their fast path
+ * (kernels/srbf_deon.h, srbf_chiang.h; slcl_srbf_deon_rgb_batch or slc_srbf_deon_rgb_batch) per
+ * mode, its three slots being the table's modes (I_0, I_1, orders >= 2 with the rest). The OpenCL
+ * lookup is srbf_ren_cl.c. */
 #include "passes/shade/srbf_ren.h"
 
 #include "base/disk_cache.h"
@@ -13,7 +16,10 @@
 #include "base/parallel.h"
 
 #include "srbf_c.h"
+#include "srbf_deon_c.h"
 #include "passes/shade/srbf_cl.h"
+#include "passes/shade/srbf_deon_cl.h"
+#include "srbf_deon.h"
 #include "srbf_fast.h"
 #include "passes/shade/srbf_tables.h"
 
@@ -35,6 +41,15 @@ void sl_srbf_ren_params_default(sl_srbf_ren_params *p) {
     p->lambda_max = 3.0;
 }
 
+void sl_srbf_ren_params_for(const sl_material *m, sl_srbf_ren_params *p) {
+    sl_srbf_ren_params_default(p);
+    /* the d'Eon form's M_p is not a function of h alone: near the diamond's edges (theta_i or
+     * theta_o towards a pole) it grows like 1 / sqrt(cos theta_i cos theta_o), convex in t, so
+     * 20 t nodes leave R +3 % on average over random rows (goal material), 32 nodes +1.6 %
+     * (docs/srbf_ren.md, "Models deon and chiang") */
+    if (m->model != SL_MODEL_MARSCHNER) p->n_t = 32;
+}
+
 static double lobe_integral(double lam) {
     return PI * lam * lam * (1.0 - exp(-4.0 / (lam * lam)));
 }
@@ -47,6 +62,10 @@ uint64_t sl_srbf_ren_material_hash(const sl_material *m) {
              m->model, m->fresnel, m->orders, m->eta, m->alpha[0], m->alpha[1], m->alpha[2],
              m->beta[0], m->beta[1], m->beta[2], m->sigma_a[0], m->sigma_a[1], m->sigma_a[2],
              m->eccentricity, m->caustic_width);
+    /* chiang's azimuthal logistic (absent from the Marschner and d'Eon keys, so their hashes,
+     * and the disk-cache names of their tables, stay what they were) */
+    if (m->model == SL_MODEL_CHIANG)
+        snprintf(s + strlen(s), sizeof s - strlen(s), " logistic_s %.17g", m->logistic_s);
     return sl_hash64(s, strlen(s), 0x52454e4d41543031ull);
 }
 
@@ -76,9 +95,16 @@ static void make_dims(const sl_material *m, const sl_srbf_ren_params *p, sl_srbf
     d->off[0] = (sl_int)warp_floats(p);
     d->off[1] = (sl_int)(d->off[0] + nodes);
     d->off[2] = (sl_int)(d->off[1] + 4 * nodes);
+    /* The h warp's centre and width per mode. Marschner's M_t is a Gaussian in theta_h = h of
+     * width beta; the d'Eon form's M_p (deon, chiang: theta_o shifted by -2 alpha, variance v =
+     * beta^2, fiber_params.h) tends to a Gaussian in theta_i + theta_o - 2 alpha of variance v,
+     * i.e. in h around alpha of width beta / 2 (cos(theta_i + theta_o - 2 alpha) / v in the
+     * exponent once I_0 is replaced by its asymptote). */
+    double wscale = m->model == SL_MODEL_MARSCHNER ? 1.0 : 0.5;
     for (int k = 0; k < 3; k++) {
+        double b = wscale * m->beta[k];
         d->alpha[k] = (float)m->alpha[k];
-        d->beta2[k] = (float)(m->beta[k] * m->beta[k]);
+        d->beta2[k] = (float)(b * b);
     }
     d->lmin = (float)p->lambda_min;
     d->lmax = (float)p->lambda_max;
@@ -176,6 +202,74 @@ static int fast_rows(sl_device *dev, const sl_fiber_params *fp, const sl_srbf_ta
     return 0;
 }
 
+/* ---- models deon and chiang: RGB rows of the d'Eon fast path ---- */
+
+typedef struct rgb_job {
+    const sl_fiber_params *fp;
+    const sl_srbf_tables *ft;
+    const float *in, *sig;
+    float *out;
+} rgb_job;
+
+static void rgb_part(void *arg, size_t begin, size_t end, int part) {
+    (void)part;
+    const rgb_job *j = arg;
+    slc_srbf_deon_rgb_batch(j->fp, j->ft->C, j->ft->H, j->ft->D, end - begin, j->in + 5 * begin,
+                            j->sig + 3 * begin, j->out + 9 * begin);
+}
+
+/* n rows of the d'Eon-family fast path (sig: 3 absorptions per row; out: 9 per row, the slots
+ * I_0 rgb, I_1 rgb, orders >= 2 and the rest rgb) on dev (OpenCL, falling back to C where dev
+ * may) or C threads (contiguous parts: a row's output depends on that row alone, bit for bit
+ * the scalar path's, cpu/srbf_deon_c.h). */
+static int rgb_rows(sl_device *dev, const sl_fiber_params *fp, const sl_srbf_tables *ft,
+                    int threads, size_t n, const float *in, const float *sig, float *out,
+                    sl_err *e) {
+    if (dev && dev->is_opencl) {
+        int rc = slcl_srbf_deon_rgb_batch(dev->cl, fp, ft, n, in, sig, out, e);
+        if (rc == 0) return 0;
+        if (!sl_device_try_fallback(dev, rc, e)) return -1;
+    }
+    enum { MAXT = 64 };
+    if (threads > MAXT) threads = MAXT;
+    rgb_job job = {fp, ft, in, sig, out};
+    sl_parallel_parts(threads, n, rgb_part, &job);
+    return 0;
+}
+
+/* The material's absorption as the frame's rows carry it (float per channel), once per row. */
+static float *material_sig(const sl_material *m, size_t n) {
+    float *sig = sl_malloc((n ? n : 1) * 3 * sizeof *sig);
+    for (size_t i = 0; i < n; i++)
+        for (int c = 0; c < 3; c++)
+            sig[3 * i + (size_t)c] = (float)m->sigma_a[c];
+    return sig;
+}
+
+/* Channel 0's total I of n rows of material m's closed form (the self-check's reference):
+ * `fast` for Marschner, the d'Eon fast path for deon and chiang. */
+static int closed_form_total(sl_device *dev, const sl_material *m, const sl_srbf_tables *ft,
+                             int threads, size_t n, const float *in, double *tot, sl_err *e) {
+    sl_fiber_params fp;
+    sl_material_to_fiber(m, 0, &fp);
+    int rc;
+    if (m->model == SL_MODEL_MARSCHNER) {
+        float *o = sl_malloc((n ? n : 1) * 4 * sizeof *o);
+        rc = fast_rows(dev, &fp, ft, threads, n, in, o, e);
+        for (size_t i = 0; !rc && i < n; i++)
+            tot[i] = o[4 * i + 3];
+        free(o);
+    } else {
+        float *o = sl_malloc((n ? n : 1) * 9 * sizeof *o), *sig = material_sig(m, n);
+        rc = rgb_rows(dev, &fp, ft, threads, n, in, sig, o, e);
+        for (size_t i = 0; !rc && i < n; i++)
+            tot[i] = (double)o[9 * i] + o[9 * i + 3] + o[9 * i + 6];
+        free(o);
+        free(sig);
+    }
+    return rc;
+}
+
 static int online_cpus(void) {
     int n = sl_parallel_cpus();
     return n > 64 ? 64 : n;
@@ -192,8 +286,8 @@ static int cmp_d(const void *a, const void *b) {
 static int self_check(sl_device *dev, const sl_material *m, const sl_srbf_tables *ft, int threads,
                       const sl_srbf_ren_params *p, sl_srbf_ren *t, sl_err *e) {
     enum { N = SL_SRBF_REN_CHECK_POINTS };
-    float *in = sl_malloc(N * 5 * sizeof *in), *ref = sl_malloc(N * 4 * sizeof *ref),
-          *got = sl_malloc(N * 9 * sizeof *got);
+    float *in = sl_malloc(N * 5 * sizeof *in), *got = sl_malloc(N * 9 * sizeof *got);
+    double *ref = sl_malloc(N * sizeof *ref);
     double *err = sl_malloc(N * sizeof *err);
     uint64_t s = 0x9e3779b97f4a7c15ull;
     for (int i = 0; i < N; i++) {
@@ -209,15 +303,13 @@ static int self_check(sl_device *dev, const sl_material *m, const sl_srbf_tables
         in[5 * i + 4] =
             (float)exp(log(p->lambda_min) + u[4] * (log(p->lambda_max) - log(p->lambda_min)));
     }
-    sl_fiber_params fp;
-    sl_material_to_fiber(m, 0, &fp);
-    int rc = fast_rows(dev, &fp, ft, threads, N, in, ref, e);
+    int rc = closed_form_total(dev, m, ft, threads, N, in, ref, e);
     if (!rc) {
         slc_srbf_ren_batch(t, N, in, got);
         for (int i = 0; i < N; i++) {
             double x = (double)got[9 * i] + got[9 * i + 3] + got[9 * i + 6];
             double lam = in[5 * i + 4];
-            err[i] = fabs(x - ref[4 * i + 3]) / fmax(ref[4 * i + 3], 0.03 * lobe_integral(lam));
+            err[i] = fabs(x - ref[i]) / fmax(ref[i], 0.03 * lobe_integral(lam));
         }
         qsort(err, N, sizeof *err, cmp_d);
         t->err_median = err[N / 2];
@@ -231,30 +323,23 @@ static int self_check(sl_device *dev, const sl_material *m, const sl_srbf_tables
     return rc;
 }
 
-/* Builds t (t->dims, key and material already set). */
-static int build(sl_device *dev, const sl_material *m, const sl_srbf_ren_params *p,
-                 const sl_srbf_tables *ft, sl_srbf_ren *t, sl_err *e) {
+/* Marschner: every block from `fast`, mode by mode and channel by channel (R once: it does not
+ * depend on sigma_a). */
+static int fill_marschner(sl_device *dev, const sl_material *m, const sl_srbf_tables *ft,
+                          int threads, sl_srbf_ren *t, sl_progress *pg, sl_err *e) {
     const sl_srbf_ren_dims *d = &t->dims;
     size_t nodes = (size_t)d->n_h * d->n_t * d->n_p * d->n_l;
-    t->n_floats = warp_floats(p) + 9 * nodes;
-    t->T = sl_calloc(t->n_floats, sizeof(float));
-    make_warps(d, t->T);
     int nch = m->sigma_a[0] == m->sigma_a[1] && m->sigma_a[0] == m->sigma_a[2] ? 1 : 3;
     /* eccentric fibers depend on phi_o + phi_j too (numerics.md sec. 3); the table stores the
      * response averaged over the fiber's rotation psi = phi_o + phi_j (4 samples, Ren 2010 drops
      * eccentricity altogether, their Sec. 9) */
     int npsi = m->eccentricity != 1.0 ? 4 : 1;
-    int threads = p->threads > 0 ? p->threads : online_cpus();
-    double t0 = sl_now();
     size_t total = nodes * (size_t)npsi * (size_t)(1 + 2 * nch), done = 0;
     size_t chunk_nodes = CHUNK_ROWS / (size_t)npsi;
     float *in = sl_malloc(chunk_nodes * (size_t)npsi * 5 * sizeof *in);
     float *out = sl_malloc(chunk_nodes * (size_t)npsi * 4 * sizeof *out);
     double *lam = sl_malloc(chunk_nodes * sizeof *lam);
-    sl_progress pg;
-    sl_progress_begin(&pg, "srbf table");
     int rc = 0;
-    int was_cl = dev && dev->is_opencl;
     for (int k = 0; k < 3 && !rc; k++) {
         int nc = k == 0 ? 1 : nch;
         for (int ch = 0; ch < nc && !rc; ch++) {
@@ -283,10 +368,70 @@ static int build(sl_device *dev, const sl_material *m, const sl_srbf_ren_params 
                             B[o + (size_t)c] = v;
                 }
                 done += nq * (size_t)npsi;
-                sl_progress_update(&pg, (double)done / (double)total);
+                sl_progress_update(pg, (double)done / (double)total);
             }
         }
     }
+    free(in);
+    free(out);
+    free(lam);
+    return rc;
+}
+
+/* Models deon and chiang: mode k's block from slot k of one RGB row per node of k's axis (the
+ * row carries the material's three absorptions as the frame's rows do; R, slot 0, does not
+ * depend on them and is stored once, channel 0's). No rotation: the d'Eon fast path has no
+ * eccentricity. */
+static int fill_deon(sl_device *dev, const sl_material *m, const sl_srbf_tables *ft, int threads,
+                     sl_srbf_ren *t, sl_progress *pg, sl_err *e) {
+    const sl_srbf_ren_dims *d = &t->dims;
+    size_t nodes = (size_t)d->n_h * d->n_t * d->n_p * d->n_l;
+    size_t chunk = CHUNK_ROWS, total = 3 * nodes, done = 0;
+    float *in = sl_malloc(chunk * 5 * sizeof *in), *out = sl_malloc(chunk * 9 * sizeof *out);
+    float *sig = material_sig(m, chunk);
+    double *lam = sl_malloc(chunk * sizeof *lam);
+    sl_fiber_params fp;
+    sl_material_to_fiber(m, 0, &fp);
+    int rc = 0;
+    for (int k = 0; k < 3 && !rc; k++)
+        for (size_t q0 = 0; q0 < nodes && !rc; q0 += chunk) {
+            size_t nq = nodes - q0 < chunk ? nodes - q0 : chunk;
+            for (size_t q = 0; q < nq; q++)
+                lam[q] = node_row(d, t->T, k, q0 + q, 0.0, in + 5 * q);
+            rc = rgb_rows(dev, &fp, ft, threads, nq, in, sig, out, e);
+            if (rc) break;
+            float *B = t->T + d->off[k];
+            for (size_t q = 0; q < nq; q++) {
+                double g = lobe_integral(lam[q]);
+                size_t o = (q0 + q) * (size_t)d->nc[k];
+                for (int c = 0; c < d->nc[k] && c < 3; c++) /* the pad (channel 3) stays 0 */
+                    B[o + (size_t)c] = (float)(out[9 * q + 3 * (size_t)k + (size_t)c] / g);
+            }
+            done += nq;
+            sl_progress_update(pg, (double)done / (double)total);
+        }
+    free(in);
+    free(out);
+    free(sig);
+    free(lam);
+    return rc;
+}
+
+/* Builds t (t->dims, key and material already set). */
+static int build(sl_device *dev, const sl_material *m, const sl_srbf_ren_params *p,
+                 const sl_srbf_tables *ft, sl_srbf_ren *t, sl_err *e) {
+    const sl_srbf_ren_dims *d = &t->dims;
+    size_t nodes = (size_t)d->n_h * d->n_t * d->n_p * d->n_l;
+    t->n_floats = warp_floats(p) + 9 * nodes;
+    t->T = sl_calloc(t->n_floats, sizeof(float));
+    make_warps(d, t->T);
+    int threads = p->threads > 0 ? p->threads : online_cpus();
+    double t0 = sl_now();
+    sl_progress pg;
+    sl_progress_begin(&pg, "srbf table");
+    int was_cl = dev && dev->is_opencl;
+    int rc = m->model == SL_MODEL_MARSCHNER ? fill_marschner(dev, m, ft, threads, t, &pg, e)
+                                            : fill_deon(dev, m, ft, threads, t, &pg, e);
     sl_progress_end(&pg);
     t->build_s = sl_now() - t0;
     if (dev && dev->is_opencl)
@@ -294,9 +439,6 @@ static int build(sl_device *dev, const sl_material *m, const sl_srbf_ren_params 
     else
         snprintf(t->built_on, sizeof t->built_on, "C path (%d thread%s)%s", threads,
                  threads == 1 ? "" : "s", was_cl ? " after an OpenCL fallback" : "");
-    free(in);
-    free(out);
-    free(lam);
     if (!rc) rc = self_check(dev, m, ft, threads, p, t, e);
     if (rc) {
         free(t->T);
@@ -316,6 +458,10 @@ static uint64_t ren_key(const sl_material *m, const sl_srbf_ren_params *p,
                         const sl_srbf_tables *ft) {
     uint64_t tab = sl_hash64(ft->C, SL_SRBF_C_FLOATS * sizeof(float), 1);
     tab = sl_hash64(ft->H, SL_SRBF_H_FLOATS * sizeof(float), tab);
+    /* the d'Eon fast path's own table (deon, chiang; not part of a Marschner key, so those keys
+     * stay what they were) */
+    if (m->model != SL_MODEL_MARSCHNER)
+        tab = sl_hash64(ft->D, SL_SRBF_DEON_FLOATS * sizeof(float), tab);
     char s[1024];
     snprintf(s, sizeof s,
              "strandlight srbf ren table v3 (h warp per lambda, displacement): fast (nodes %d) "
@@ -377,12 +523,7 @@ int sl_srbf_ren_get(sl_device *dev, const sl_material *m, const sl_srbf_ren_para
     if (p_in)
         p = *p_in;
     else
-        sl_srbf_ren_params_default(&p);
-    if (m->model != SL_MODEL_MARSCHNER)
-        return sl_fail(e,
-                       "srbf table: model %s has no precomputed table (only model marschner is "
-                       "implemented; %s shades with --method fast)",
-                       sl_material_model_name(m->model), sl_material_model_name(m->model));
+        sl_srbf_ren_params_for(m, &p);
     for (int k = 0; k < 3; k++)
         if (!(m->beta[k] > 0.0))
             return sl_fail(e, "srbf table: beta[%d] must be > 0 (got %g)", k, m->beta[k]);
@@ -425,9 +566,12 @@ double sl_srbf_ren_build_rows(const sl_material *m, const sl_srbf_ren_params *p_
     if (p_in)
         p = *p_in;
     else
-        sl_srbf_ren_params_default(&p);
-    /* the count build() evaluates: R once, TT and TRT per distinct channel, 4 rotations for an
-     * eccentric fiber */
+        sl_srbf_ren_params_for(m, &p);
+    /* deon, chiang: one RGB row per node and mode (an RGB row of the d'Eon fast path costs
+     * about what a single-channel `fast` row does: the absorption is the cheap part) */
+    if (m->model != SL_MODEL_MARSCHNER) return 3.0 * p.n_h * p.n_t * p.n_phi * p.n_lambda;
+    /* Marschner: the count build() evaluates: R once, TT and TRT per distinct channel, 4
+     * rotations for an eccentric fiber */
     int nch = m->sigma_a[0] == m->sigma_a[1] && m->sigma_a[0] == m->sigma_a[2] ? 1 : 3;
     int npsi = m->eccentricity != 1.0 ? 4 : 1;
     return (double)p.n_h * p.n_t * p.n_phi * p.n_lambda * npsi * (1 + 2 * nch);
@@ -439,8 +583,8 @@ int sl_srbf_ren_cached(const sl_material *m, const sl_srbf_ren_params *p_in,
     if (p_in)
         p = *p_in;
     else
-        sl_srbf_ren_params_default(&p);
-    if (m->model != SL_MODEL_MARSCHNER || check_params(&p, NULL)) return 0;
+        sl_srbf_ren_params_for(m, &p);
+    if (check_params(&p, NULL)) return 0;
     char dir[4000];
     int have_dir;
     if (p.cache_dir)

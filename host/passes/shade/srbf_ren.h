@@ -34,12 +34,16 @@ typedef struct sl_srbf_ren_params {
 
 /* The defaults (docs/srbf_ren.md: chosen by measured error against size). */
 void sl_srbf_ren_params_default(sl_srbf_ren_params *p);
+/* The defaults for material m's model (deon and chiang: 32 t nodes instead of 20); what
+ * sl_srbf_ren_get and the planner use when no parameters are given. */
+void sl_srbf_ren_params_for(const sl_material *m, sl_srbf_ren_params *p);
 
 /* Loads the table for material m from the disk cache, or builds it (dev: the OpenCL device when
  * dev && dev->is_opencl, falling back to C when dev may; else the C path) and caches it (temp +
  * rename; a corrupt, truncated or foreign cache file is rebuilt and replaced, never trusted).
- * p NULL: defaults. Marschner materials only (model deon: error). Returns 0, or -1 with e set
- * (cache write problems are warnings). */
+ * p NULL: defaults. Every model: Marschner's table from `fast`, deon's and chiang's from the
+ * d'Eon fast path (their three modes: I_0, I_1, and orders >= 2 with the rest term). Returns 0,
+ * or -1 with e set (cache write problems are warnings). */
 int sl_srbf_ren_get(sl_device *dev, const sl_material *m, const sl_srbf_ren_params *p,
                     sl_srbf_ren *t, sl_err *e);
 void sl_srbf_ren_free(sl_srbf_ren *t);
@@ -50,7 +54,8 @@ void sl_srbf_ren_free(sl_srbf_ren *t);
  * "cached on disk" test (docs/frame.md). */
 int sl_srbf_ren_cached(const sl_material *m, const sl_srbf_ren_params *p, const sl_srbf_tables *ft);
 /* `fast` evaluations a build of the table for m costs (the planner weighs it against the rows a
- * sequence of frames would shade): nodes x rotations (4 when eccentric) x (1 + 2 x channels). */
+ * sequence of frames would shade): Marschner nodes x rotations (4 when eccentric) x (1 + 2 x
+ * channels); deon and chiang nodes x 3 (one RGB row per node and mode). */
 double sl_srbf_ren_build_rows(const sl_material *m, const sl_srbf_ren_params *p);
 
 /* Hash of every material field the response depends on; sl_srbf_ren_matches: 1 when t was built

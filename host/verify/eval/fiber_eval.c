@@ -347,7 +347,16 @@ static int run_float(sl_eval_session *s, sl_eval_quantity q, sl_eval_backend b, 
     if (q == SL_EVAL_SRBF && mt == SL_EVAL_METHOD_TABLE) {
         /* the table of material m (disk cache, or built on the C path; once per session), then
          * its lookup */
-        if (!s->have_ren) {
+        if (m->model != SL_MODEL_MARSCHNER)
+            /* the renderer's table of deon and chiang holds three modes (I_0, I_1, and the
+             * orders >= 2 with the rest together), not the columns eval srbf prints for them */
+            rc = sl_fail(e,
+                         "eval: srbf --method table prints the Marschner columns only; model %s's "
+                         "table (the renderer's, render --method table) keeps its orders >= 2 and "
+                         "the rest term together: use --method fast (c, opencl) or exact "
+                         "(reference)",
+                         sl_material_model_name(m->model));
+        if (!rc && !s->have_ren) {
             rc = sl_srbf_ren_get(NULL, m, NULL, &s->ren, e);
             s->have_ren = 1; /* ren is zeroed first, so freeing it is safe after a failure too */
         }

@@ -485,7 +485,7 @@ int sl_report_srbf(const sl_report_srbf_opts *o, sl_err *e) {
         sl_material m;
         sl_srbf_sample_material(g, &m);
         sl_srbf_ren_params rp;
-        sl_srbf_ren_params_default(&rp);
+        sl_srbf_ren_params_for(&m, &rp);
         rp.verbose = 1;
         rc = sl_srbf_ren_get(NULL, &m, &rp, &r.ren[g], e);
         if (rc) break;
@@ -534,7 +534,8 @@ int sl_report_srbf(const sl_report_srbf_opts *o, sl_err *e) {
     }
     if (!rc) {
         printf("SRBF closed forms against the exact reference: %d configurations of the stiff "
-               "sample (seed %u, host/verify/report/srbf_sample.c); error of numerics.md sec. 5; %d rows have an "
+               "sample (seed %u, host/verify/report/srbf_sample.c); error of numerics.md sec. 5; "
+               "%d rows have an "
                "exact I above the error floor\n\n",
                n, SL_SRBF_SAMPLE_SEED, nr ? res[0].s.n_above : 0);
         printf("| method | m | backend | I median | I p95 | I max | R p95 | TT p95 | TRT p95 | "
