@@ -126,7 +126,7 @@ static inline void blend3v(const float *B, const sl_srbf_ren_pt *q, const int *i
 
 static void blendv(const float *T, const sl_srbf_ren_dims *d, const sl_srbf_ren_pt *q,
                    float out[9]) {
-    float vr = sl_srbf_ren_blend1(T + d->off[0], q->o8, q->w8, q->ih, q->wh) * q->norm;
+    float vr = sl_srbf_ren_blend_r(T, d, q) * q->norm;
     out[0] = out[1] = out[2] = vr;
     blend3v(T + d->off[1], q, q->ih + 2, q->wh + 2, out + 3);
     blend3v(T + d->off[2], q, q->ih + 4, q->wh + 4, out + 6);

@@ -3,7 +3,8 @@
  * OpenCL kernel (kernels/srbf_ren.cl) so both agree to float rounding.
  *
  * For one fixed material the response I_t(omega_o; omega_j, lambda) of numerics.md sec. 4 is
- * baked (host/passes/shade/srbf_ren.c, from the `fast` closed form) over four axes in the fiber frame:
+ * baked (host/passes/shade/srbf_ren.c, from the `fast` closed form) over four axes in the fiber
+ * frame:
  *  - h = (theta_o + theta_j) / 2, warped per mode and lambda slice around alpha_t: the
  *    response is a lobe centred on h = alpha_t of width w = sqrt(beta_t^2 + lambda^2 / 4)
  *    (M_t(theta_h) convolved with the SRBF, Xu 2011 Eq. 11), so the nodes crowd there:
@@ -39,6 +40,8 @@ typedef struct sl_srbf_ren_dims {
     float lmin, lmax;          /* lambda range of the table */
     float log_lmin, l_scale;   /* fl = (log lambda - log_lmin) * l_scale */
     float t_scale, p_scale;    /* (n_t - 1) / 2, (n_p - 1) / pi */
+    sl_int r_log;              /* 1: the R block holds ln(value + r_eps), interpolated so */
+    float r_eps;
 } sl_srbf_ren_dims;
 
 /* min / max as selects (C's fminf/fmaxf are library calls at -O2; NaN handling is not needed
@@ -116,8 +119,9 @@ SL_INLINE float sl_srbf_ren_log(float x) {
     return p + (float)e * 0.693147180559945f;
 }
 
-/* e^x for x <= 0 (0 below -87): 2^(x log2 e) = 2^n 2^f, f in [0, 1), 2^f by its degree-6
- * Taylor polynomial in f ln 2 (relative error < 2e-7). */
+/* e^x for x <= 88 (0 below -87; named for its first use, int G's exp(-4 / lambda^2)):
+ * 2^(x log2 e) = 2^n 2^f, f in [0, 1), 2^f by its degree-6 Taylor polynomial in f ln 2
+ * (relative error < 2e-7). */
 SL_INLINE float sl_srbf_ren_exp_neg(float x) {
     float y = sl_srbf_ren_max(x, -87.0f) * 1.44269504088896f;
     float fy = (float)(int)y; /* y <= 0: truncation rounds up */
@@ -226,10 +230,21 @@ SL_INLINE void sl_srbf_ren_coords(SL_GLOBAL const float *T, const sl_srbf_ren_di
     }
 }
 
+/* The normalised R at the corners q: interpolated linearly, or for a table whose R block holds
+ * logarithms (d->r_log: models deon and chiang, whose R rises by orders of magnitude towards the
+ * diamond's edges, where linear interpolation overshoots; docs/srbf_ren.md) log-linearly. */
+SL_INLINE float sl_srbf_ren_blend_r(SL_GLOBAL const float *T, const sl_srbf_ren_dims *d,
+                                    const sl_srbf_ren_pt *q) {
+    float v = sl_srbf_ren_blend1(T + d->off[0], q->o8, q->w8, q->ih, q->wh);
+    /* exp by the polynomial below: exact for any argument in [-87, 88], the stored logarithms'
+     * range (ln r_eps and ln of a normalised response) */
+    return d->r_log ? sl_srbf_ren_max(sl_srbf_ren_exp_neg(v) - d->r_eps, 0.0f) : v;
+}
+
 /* out: R rgb, TT rgb, TRT rgb (R replicated) at the corners q. */
 SL_INLINE void sl_srbf_ren_blend(SL_GLOBAL const float *T, const sl_srbf_ren_dims *d,
                                  const sl_srbf_ren_pt *q, float out[9]) {
-    float vr = sl_srbf_ren_blend1(T + d->off[0], q->o8, q->w8, q->ih, q->wh) * q->norm;
+    float vr = sl_srbf_ren_blend_r(T, d, q) * q->norm;
     out[0] = out[1] = out[2] = vr;
     sl_srbf_ren_blend3(T + d->off[1], q->o8, q->w8, q->ih + 2, q->wh + 2, q->norm, out + 3);
     sl_srbf_ren_blend3(T + d->off[2], q->o8, q->w8, q->ih + 4, q->wh + 4, q->norm, out + 6);

@@ -21,11 +21,11 @@ static int painted(const sl_renderer *r, const sl_material *m, const sl_shade_po
            q[2] != (float)m->sigma_a[2];
 }
 
-static void table_params(const sl_renderer *r, const sl_material *mat, sl_srbf_ren_params *p) {
+static void table_params(const sl_renderer *r, sl_srbf_ren_params *p) {
     if (r->o.table_params) {
         *p = *r->o.table_params;
     } else {
-        sl_srbf_ren_params_for(mat, p);
+        sl_srbf_ren_params_default(p);
         p->threads = r->o.threads;
     }
 }
@@ -38,7 +38,7 @@ static int ensure_table(sl_renderer *r, const sl_material *mat, int *state, sl_e
     }
     sl_frame_free_ren(r);
     sl_srbf_ren_params p;
-    table_params(r, mat, &p);
+    table_params(r, &p);
     if (sl_srbf_ren_get(r->dev, mat, &p, &r->ren, e)) return -1;
     r->have_ren = 1;
     *state = SL_PASS_RUN;
@@ -82,7 +82,7 @@ static int plan_srbf(sl_renderer *r, const sl_material *mat, double rows, double
         why = "auto: no rows to shade from a table: fast";
     } else {
         sl_srbf_ren_params p;
-        table_params(r, mat, &p);
+        table_params(r, &p);
         long left = (r->o.frames > 0 ? r->o.frames : 1) - r->frames_done;
         if (left < 1) left = 1;
         double build = sl_srbf_ren_build_rows(mat, &p), saved = SL_FRAME_TABLE_SAVING * rows * left;

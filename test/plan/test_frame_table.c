@@ -207,9 +207,6 @@ static void image_vs_fast(const char *name, const char *mat) {
         CHECK_MSG(sl_material_parse(mat, strlen(mat), "test", &t.s.material, &e) == 0, "%s", e.msg);
     }
     tp.n_h = 48, tp.n_t = 12, tp.n_phi = 16, tp.n_lambda = 12; /* mid-size, 2 threads, dir */
-    /* the d'Eon family's t axis at the default's ratio (32 instead of 20 nodes,
-     * sl_srbf_ren_params_for) */
-    if (t.s.material.model != SL_MODEL_MARSCHNER) tp.n_t = 20;
     /* the fixture's own 4 lobes, as this bound was set for: subdivided (the default), the
      * coarse 12-lambda table meets 0.049 against 0.041 allowed (its self-check samples lambda
      * over the table's range, not the sub-lobes' widths) */

@@ -41,15 +41,6 @@ void sl_srbf_ren_params_default(sl_srbf_ren_params *p) {
     p->lambda_max = 3.0;
 }
 
-void sl_srbf_ren_params_for(const sl_material *m, sl_srbf_ren_params *p) {
-    sl_srbf_ren_params_default(p);
-    /* the d'Eon form's M_p is not a function of h alone: near the diamond's edges (theta_i or
-     * theta_o towards a pole) it grows like 1 / sqrt(cos theta_i cos theta_o), convex in t, so
-     * 20 t nodes leave R +3 % on average over random rows (goal material), 32 nodes +1.6 %
-     * (docs/srbf_ren.md, "Models deon and chiang") */
-    if (m->model != SL_MODEL_MARSCHNER) p->n_t = 32;
-}
-
 static double lobe_integral(double lam) {
     return PI * lam * lam * (1.0 - exp(-4.0 / (lam * lam)));
 }
@@ -111,6 +102,10 @@ static void make_dims(const sl_material *m, const sl_srbf_ren_params *p, sl_srbf
     d->log_lmin = (float)log(p->lambda_min);
     d->l_scale = (float)((p->n_lambda - 1) / (log(p->lambda_max) - log(p->lambda_min)));
     d->t_scale = 0.5f * (float)(p->n_t - 1);
+    /* deon, chiang: R stored as ln(v + eps) (kernels/srbf_ren_lookup.h sl_srbf_ren_blend_r; eps
+     * far below the error measure's floor, 0.03 of a normalised value) */
+    d->r_log = m->model != SL_MODEL_MARSCHNER;
+    d->r_eps = d->r_log ? SL_SRBF_REN_R_EPS : 0.0f;
     d->p_scale = (float)((p->n_phi - 1) / PI);
 }
 
@@ -404,8 +399,11 @@ static int fill_deon(sl_device *dev, const sl_material *m, const sl_srbf_tables 
             for (size_t q = 0; q < nq; q++) {
                 double g = lobe_integral(lam[q]);
                 size_t o = (q0 + q) * (size_t)d->nc[k];
-                for (int c = 0; c < d->nc[k] && c < 3; c++) /* the pad (channel 3) stays 0 */
-                    B[o + (size_t)c] = (float)(out[9 * q + 3 * (size_t)k + (size_t)c] / g);
+                for (int c = 0; c < d->nc[k] && c < 3; c++) { /* the pad (channel 3) stays 0 */
+                    double v = out[9 * q + 3 * (size_t)k + (size_t)c] / g;
+                    B[o + (size_t)c] =
+                        (float)(k == 0 && d->r_log ? log(fmax(v, 0.0) + d->r_eps) : v);
+                }
             }
             done += nq;
             sl_progress_update(pg, (double)done / (double)total);
@@ -452,7 +450,7 @@ static int build(sl_device *dev, const sl_material *m, const sl_srbf_ren_params 
 
 /* The payload: what the build measured and the table's shape, then the table's floats
  * (base/disk_cache.h adds the key and the integrity hash). Bump when this layout changes. */
-#define REN_FORMAT 2u
+#define REN_FORMAT 3u /* 3: dims.r_log, r_eps */
 
 static uint64_t ren_key(const sl_material *m, const sl_srbf_ren_params *p,
                         const sl_srbf_tables *ft) {
@@ -523,7 +521,7 @@ int sl_srbf_ren_get(sl_device *dev, const sl_material *m, const sl_srbf_ren_para
     if (p_in)
         p = *p_in;
     else
-        sl_srbf_ren_params_for(m, &p);
+        sl_srbf_ren_params_default(&p);
     for (int k = 0; k < 3; k++)
         if (!(m->beta[k] > 0.0))
             return sl_fail(e, "srbf table: beta[%d] must be > 0 (got %g)", k, m->beta[k]);
@@ -566,7 +564,7 @@ double sl_srbf_ren_build_rows(const sl_material *m, const sl_srbf_ren_params *p_
     if (p_in)
         p = *p_in;
     else
-        sl_srbf_ren_params_for(m, &p);
+        sl_srbf_ren_params_default(&p);
     /* deon, chiang: one RGB row per node and mode (an RGB row of the d'Eon fast path costs
      * about what a single-channel `fast` row does: the absorption is the cheap part) */
     if (m->model != SL_MODEL_MARSCHNER) return 3.0 * p.n_h * p.n_t * p.n_phi * p.n_lambda;
@@ -583,7 +581,7 @@ int sl_srbf_ren_cached(const sl_material *m, const sl_srbf_ren_params *p_in,
     if (p_in)
         p = *p_in;
     else
-        sl_srbf_ren_params_for(m, &p);
+        sl_srbf_ren_params_default(&p);
     if (check_params(&p, NULL)) return 0;
     char dir[4000];
     int have_dir;

@@ -21,6 +21,10 @@
 #include "srbf_ren_c.h"
 #include "passes/shade/srbf_tables.h"
 
+/* Floor of the logarithmic R block of models deon and chiang (normalised values, docs/srbf_ren.md).
+ */
+#define SL_SRBF_REN_R_EPS 1e-4f
+
 /* Random points at which a freshly built table checks itself against the closed form. */
 #define SL_SRBF_REN_CHECK_POINTS 4096
 
@@ -34,9 +38,6 @@ typedef struct sl_srbf_ren_params {
 
 /* The defaults (docs/srbf_ren.md: chosen by measured error against size). */
 void sl_srbf_ren_params_default(sl_srbf_ren_params *p);
-/* The defaults for material m's model (deon and chiang: 32 t nodes instead of 20); what
- * sl_srbf_ren_get and the planner use when no parameters are given. */
-void sl_srbf_ren_params_for(const sl_material *m, sl_srbf_ren_params *p);
 
 /* Loads the table for material m from the disk cache, or builds it (dev: the OpenCL device when
  * dev && dev->is_opencl, falling back to C when dev may; else the C path) and caches it (temp +

@@ -485,7 +485,7 @@ int sl_report_srbf(const sl_report_srbf_opts *o, sl_err *e) {
         sl_material m;
         sl_srbf_sample_material(g, &m);
         sl_srbf_ren_params rp;
-        sl_srbf_ren_params_for(&m, &rp);
+        sl_srbf_ren_params_default(&rp);
         rp.verbose = 1;
         rc = sl_srbf_ren_get(NULL, &m, &rp, &r.ren[g], e);
         if (rc) break;
