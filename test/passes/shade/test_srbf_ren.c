@@ -65,6 +65,34 @@ static void fast9(const sl_material *m, const sl_srbf_tables *ft, const float in
     }
 }
 
+/* A random node of a mode's block as an input row, placed from the documented axis definitions
+ * (docs/srbf_ren.md), not taken from the builder: h with s uniform between s(-pi/2) and s(pi/2),
+ * s = y / (1 + |y|/K), y = (h - alpha) / w, w = sqrt(bh^2 + lambda^2 / 4), bh the mode's width in
+ * h (beta for Marschner, beta / 2 for the d'Eon form); t = sign(u) (1 - (1 - |u|)^2), u uniform;
+ * dphi uniform on [0, pi]; lambda log-uniform; any common azimuth (only the difference counts).
+ * Returns lambda; node gets (ih, it, ip, il) for the messages. */
+static double random_node(const sl_srbf_ren_params *p, double a, double bh, float in[5],
+                          int node[4]) {
+    int ih = (int)(rnd() * p->n_h), it = (int)(rnd() * p->n_t), ip = (int)(rnd() * p->n_phi),
+        il = (int)(rnd() * p->n_lambda);
+    double lam = exp(log(p->lambda_min) +
+                     (log(p->lambda_max) - log(p->lambda_min)) * il / (p->n_lambda - 1));
+    double K = SL_SRBF_REN_K, b = sqrt(bh * bh + 0.25 * lam * lam);
+    double ylo = (-0.5 * PI - a) / b, yhi = (0.5 * PI - a) / b;
+    double slo = ylo / (1 + fabs(ylo) / K), shi = yhi / (1 + fabs(yhi) / K);
+    double sv = slo + (shi - slo) * ih / (p->n_h - 1);
+    double h = fmin(fmax(a + b * sv / (1 - fabs(sv) / K), -0.5 * PI), 0.5 * PI);
+    double u = -1.0 + 2.0 * it / (p->n_t - 1);
+    double tt = (u < 0 ? -1 : 1) * (1 - (1 - fabs(u)) * (1 - fabs(u)));
+    double d = tt * (0.5 * PI - fabs(h));
+    double dphi = PI * ip / (p->n_phi - 1);
+    double phi_o = 2.0 * rnd() - 1.0;
+    in[0] = (float)(h - d), in[1] = (float)phi_o, in[2] = (float)(h + d);
+    in[3] = (float)(phi_o + dphi), in[4] = (float)lam;
+    node[0] = ih, node[1] = it, node[2] = ip, node[3] = il;
+    return lam;
+}
+
 /* At the table's nodes the lookup must return what the closed form gave there: the stored value
  * is float(fast / int G) and the lookup multiplies by int G again, so only float rounding of the
  * node coordinates (recomputed from the angles: a neighbour weight of ~1e-5 at most) and of the
@@ -94,25 +122,9 @@ TEST(srbf_ren_nodes_match_fast) {
     int checked = 0;
     for (int rep = 0; rep < 60; rep++) {
         int k = rep % 3; /* mode whose h axis the node is on */
-        int ih = (int)(rnd() * p.n_h), it = (int)(rnd() * p.n_t), ip = (int)(rnd() * p.n_phi),
-            il = (int)(rnd() * p.n_lambda);
-        double lam = exp(log(p.lambda_min) +
-                         (log(p.lambda_max) - log(p.lambda_min)) * il / (p.n_lambda - 1));
-        /* h: s uniform between s(-pi/2) and s(pi/2), s = y / (1 + |y|/K), y = (h - alpha) / w,
-         * w = sqrt(beta^2 + lambda^2 / 4) */
-        double K = SL_SRBF_REN_K, a = m.alpha[k];
-        double b = sqrt(m.beta[k] * m.beta[k] + 0.25 * lam * lam);
-        double ylo = (-0.5 * PI - a) / b, yhi = (0.5 * PI - a) / b;
-        double slo = ylo / (1 + fabs(ylo) / K), shi = yhi / (1 + fabs(yhi) / K);
-        double s = slo + (shi - slo) * ih / (p.n_h - 1);
-        double h = fmin(fmax(a + b * s / (1 - fabs(s) / K), -0.5 * PI), 0.5 * PI);
-        double u = -1.0 + 2.0 * it / (p.n_t - 1); /* t = sign(u) (1 - (1 - |u|)^2) */
-        double tt = (u < 0 ? -1 : 1) * (1 - (1 - fabs(u)) * (1 - fabs(u)));
-        double d = tt * (0.5 * PI - fabs(h));
-        double dphi = PI * ip / (p.n_phi - 1);
-        double phi_o = 2.0 * rnd() - 1.0; /* any common azimuth: only the difference counts */
-        float in[5] = {(float)(h - d), (float)phi_o, (float)(h + d), (float)(phi_o + dphi),
-                       (float)lam};
+        float in[5];
+        int nd[4];
+        double lam = random_node(&p, m.alpha[k], m.beta[k], in, nd);
         float got[9], want[9];
         slc_srbf_ren_batch(&t, 1, in, got);
         fast9(&m, &ft, in, want);
@@ -120,7 +132,7 @@ TEST(srbf_ren_nodes_match_fast) {
             int q = 3 * k + c;
             CHECK_MSG(fabs(got[q] - want[q]) <= 1e-3 * fabs(want[q]) + 1e-6 * lobe_int(lam),
                       "node mode %d ch %d (ih %d it %d ip %d il %d): table %.7g fast %.7g", k, c,
-                      ih, it, ip, il, got[q], want[q]);
+                      nd[0], nd[1], nd[2], nd[3], got[q], want[q]);
         }
         checked++;
     }
@@ -171,23 +183,9 @@ TEST(srbf_ren_deon_family_nodes_match_fast) {
         rng_state = 13 + (uint64_t)g;
         for (int rep = 0; rep < 60; rep++) {
             int k = rep % 3;
-            int ih = (int)(rnd() * p.n_h), it = (int)(rnd() * p.n_t), ip = (int)(rnd() * p.n_phi),
-                il = (int)(rnd() * p.n_lambda);
-            double lam = exp(log(p.lambda_min) +
-                             (log(p.lambda_max) - log(p.lambda_min)) * il / (p.n_lambda - 1));
-            double K = SL_SRBF_REN_K, a = m.alpha[k], bh = 0.5 * m.beta[k];
-            double b = sqrt(bh * bh + 0.25 * lam * lam);
-            double ylo = (-0.5 * PI - a) / b, yhi = (0.5 * PI - a) / b;
-            double slo = ylo / (1 + fabs(ylo) / K), shi = yhi / (1 + fabs(yhi) / K);
-            double sv = slo + (shi - slo) * ih / (p.n_h - 1);
-            double h = fmin(fmax(a + b * sv / (1 - fabs(sv) / K), -0.5 * PI), 0.5 * PI);
-            double u = -1.0 + 2.0 * it / (p.n_t - 1);
-            double tt = (u < 0 ? -1 : 1) * (1 - (1 - fabs(u)) * (1 - fabs(u)));
-            double d = tt * (0.5 * PI - fabs(h));
-            double dphi = PI * ip / (p.n_phi - 1);
-            double phi_o = 2.0 * rnd() - 1.0;
-            float in[5] = {(float)(h - d), (float)phi_o, (float)(h + d), (float)(phi_o + dphi),
-                           (float)lam};
+            float in[5];
+            int nd[4];
+            double lam = random_node(&p, m.alpha[k], 0.5 * m.beta[k], in, nd);
             float got[9], want[9];
             slc_srbf_ren_batch(&t, 1, in, got);
             deon9(&m, &ft, in, want);
@@ -195,7 +193,7 @@ TEST(srbf_ren_deon_family_nodes_match_fast) {
                 int q = 3 * k + c;
                 CHECK_MSG(fabs(got[q] - want[q]) <= 1e-3 * fabs(want[q]) + 1e-6 * lobe_int(lam),
                           "%s node mode %d ch %d (ih %d it %d ip %d il %d): table %.7g fast %.7g",
-                          mats[g], k, c, ih, it, ip, il, got[q], want[q]);
+                          mats[g], k, c, nd[0], nd[1], nd[2], nd[3], got[q], want[q]);
             }
         }
         sl_srbf_ren_free(&t);
