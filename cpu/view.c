@@ -127,7 +127,7 @@ void slc_view_segment(const double p0[3], const double p1[3], double hw, float a
     share *s = ns <= 512 ? stack : sl_malloc(2 * ns * sizeof *s);
     share *scratch = s + (ns <= 512 ? 512 : ns);
     sl_splat it;
-    sl_splat_begin(&it, rec, w, h, 1);
+    sl_splat_begin_box(&it, rec, w, h, 1);
     sl_int tx, ty;
     float sh, z, ts = 0.0f;
     sl_uint ti = ~0u; /* the row ts is of: none yet (na <= SL_RASTER_MAX_ALONG) */
@@ -200,18 +200,22 @@ static void kb_part(void *arg, size_t begin, size_t end, int part) {
     const kb_job *j = arg;
     const uint32_t pix_lo = (uint32_t)begin * (uint32_t)j->w;
     const uint32_t pix_hi = (uint32_t)end * (uint32_t)j->w;
-    size_t merges = 0;
+    size_t arrived = 0, kept = 0;
     for (int q = 0; q < j->nparts; q++) {
         const slc_frag_list *l = &j->parts[q];
         for (size_t i = 0; i < l->n; i++) {
             uint32_t p = l->pix[i];
             if (p < pix_lo || p >= pix_hi) continue;
-            int n = j->count[p];
-            if (n == j->K) merges++;
-            j->count[p] = (uint8_t)sl_kbuffer_insert(j->kbuf + (size_t)p * j->K, n, j->K, l->f[i]);
+            arrived++;
+            j->count[p] =
+                (uint8_t)sl_kbuffer_insert(j->kbuf + (size_t)p * j->K, j->count[p], j->K, l->f[i]);
         }
     }
-    j->merges[part] = merges;
+    for (uint32_t p = pix_lo; p < pix_hi; p++)
+        kept += j->count[p];
+    /* the fragments that are no entry of their own: merged on overflow or hidden behind full
+     * coverage (the OpenCL fill counts the same from its counts: host/passes/view/view_cl.c) */
+    j->merges[part] = arrived - kept;
 }
 
 size_t slc_kbuffer_build_parts(const slc_frag_list *parts, int nparts, int w, int h, int K,

@@ -52,7 +52,8 @@ void slc_view_segment(const double p0[3], const double p1[3], double hw, float a
 /* Fills the K-buffer: kbuf (K per pixel, w * h pixels) and count (entries per pixel) from the
  * fragments in list order, which fixes the result (merges depend on order). nthreads > 1 splits
  * the image into row bands; each band sees the fragments in the same order, so the result does
- * not depend on nthreads. Returns the number of merges (overflowing insertions). */
+ * not depend on nthreads. Returns the number of fragments that are no entry of their own
+ * (merged on overflow or hidden behind full coverage): all of them less the entries kept. */
 size_t slc_kbuffer_build(const slc_frag_list *l, int w, int h, int K, sl_kfrag *kbuf,
                          uint8_t *count, int nthreads);
 /* The same from several lists taken one after another (parts[0] first), as if concatenated:

@@ -148,6 +148,23 @@ SL_INLINE void sl_raster_tent(float x, float y, sl_int *ix, sl_int *iy, float *f
     *fy = gy - fly;
 }
 
+/* The box footprint instead of the tent (the view pass, docs/frame.md "Pixel filter"): the
+ * sample stands for a piece of ribbon whose bounding box has half-extents hx, hy (<= 1/2 pixel),
+ * its mass spread uniformly over that box, and a pixel is the cell [i, i + 1) x [j, j + 1), so
+ * what a pixel gets is the box's overlap with it: the pixel filter of a path tracer's jittered
+ * subpixel rays (a box of one pixel), not a tent of two. The lower-left cell of the <= 2 x 2 the
+ * box overlaps, and the fraction of the mass in the column (row) after it. hx = 0 is a point:
+ * all of it in the cell that holds x. */
+SL_INLINE void sl_raster_box(float x, float y, float hx, float hy, sl_int *ix, sl_int *iy,
+                             float *fx, float *fy) {
+    const float flx = floor(x - hx), fly = floor(y - hy);
+    *ix = (sl_int)flx;
+    *iy = (sl_int)fly;
+    const float ox = x + hx - (flx + 1.0f), oy = y + hy - (fly + 1.0f); /* reach past the cell */
+    *fx = hx > 0.0f ? sl_clampf(ox / (2.0f * hx), 0.0f, 1.0f) : 0.0f;
+    *fy = hy > 0.0f ? sl_clampf(oy / (2.0f * hy), 0.0f, 1.0f) : 0.0f;
+}
+
 /* Fixed-point share of one tent corner (weights wx, wy of a sample of mass m). */
 SL_INLINE float sl_raster_share(float m, float wx, float wy) {
     return (m * wx) * wy;

@@ -2,13 +2,14 @@
  * the deep opacity maps' two passes; cpu/view.c: the view pass's fragments).
  *
  * A segment record (kernels/raster.h) is a regular grid of na x nw samples tiling the ribbon;
- * each sample is tent-splatted onto its 4 nearest texels. Every user of a record walks exactly
- * this: every sample (along i, then across j), every tent corner (in the order (ix, iy),
- * (ix + 1, iy), (ix, iy + 1), (ix + 1, iy + 1)), the corners outside the w x h map skipped, and
- * each remaining corner's share (mass x tent weights) and the sample's depth. Only what a texel
- * does with its share differs (first depth, a deep-opacity layer, a view fragment), so that stays
- * with the caller: OpenCL C has no function pointers, so the loop is an iterator instead of a
- * callback:
+ * each sample is tent-splatted onto its 4 nearest texels (the view pass: spread over its piece's
+ * bounding box instead, sl_splat_begin_box, which also touches at most 2 x 2 pixels). Every user
+ * of a record walks exactly this: every sample (along i, then across j), every tent corner (in
+ * the order (ix, iy), (ix + 1, iy), (ix, iy + 1), (ix + 1, iy + 1)), the corners outside the
+ * w x h map skipped, and each remaining corner's share (mass x tent weights) and the sample's
+ * depth. Only what a texel does with its share differs (first depth, a deep-opacity layer, a
+ * view fragment), so that stays with the caller: OpenCL C has no function pointers, so the loop
+ * is an iterator instead of a callback:
  *
  *     sl_splat it;
  *     sl_splat_begin(&it, rec, w, h, 1);
@@ -37,11 +38,12 @@ typedef struct sl_splat {
     sl_uint i, j;   /* current sample */
     int clip;       /* whether corners may fall outside the map (0: the caller proved not) */
     sl_int w, h;
-    sl_int ix, iy;  /* the current sample's lower-left tent texel */
-    float z;        /* its depth */
-    float sh[4];    /* its share at corner c = (ix + (c & 1), iy + (c >> 1)) */
-    sl_uint left;   /* its corners not yet returned that lie in the map: bit c for corner c */
-    int taken;      /* sl_splat_next_sample: the current sample was handed out */
+    sl_int ix, iy; /* the current sample's lower-left tent texel */
+    float z;       /* its depth */
+    float sh[4];   /* its share at corner c = (ix + (c & 1), iy + (c >> 1)) */
+    sl_uint left;  /* its corners not yet returned that lie in the map: bit c for corner c */
+    int taken;     /* sl_splat_next_sample: the current sample was handed out */
+    float hx, hy;  /* box footprint's half-extents (sl_splat_begin_box), hx < 0: the tent */
 } sl_splat;
 
 /* Index of the lowest set bit of l != 0 (OpenCL C 1.2 has popcount but no ctz; the C build is
@@ -58,7 +60,10 @@ SL_INLINE int sl_splat_low_bit(sl_uint l) {
 SL_INLINE void sl_splat_load(sl_splat *it) {
     float x, y, fx, fy;
     sl_raster_sample(it->rec, it->i, it->j, &x, &y, &it->z);
-    sl_raster_tent(x, y, &it->ix, &it->iy, &fx, &fy);
+    if (it->hx < 0.0f)
+        sl_raster_tent(x, y, &it->ix, &it->iy, &fx, &fy);
+    else
+        sl_raster_box(x, y, it->hx, it->hy, &it->ix, &it->iy, &fx, &fy);
     const float gx = 1.0f - fx, gy = 1.0f - fy;
     it->sh[0] = sl_raster_share(it->m, gx, gy);
     it->sh[1] = sl_raster_share(it->m, fx, gy);
@@ -93,12 +98,26 @@ SL_INLINE void sl_splat_begin(sl_splat *it, const SL_GLOBAL float *rec, sl_int w
     it->h = h;
     it->left = 0u;
     it->taken = 0;
+    it->hx = it->hy = -1.0f;
     if (it->na == 0u || it->nw == 0u) {
         /* the first sl_splat_next steps past the last row at once */
         it->na = 0u;
         it->nw = 1u;
         return;
     }
+    sl_splat_load(it);
+}
+
+/* The same walk with each sample's mass spread over the bounding box of the piece of ribbon it
+ * stands for (half-extents (|a| + |w|) / 2 per axis from the record's steps along, a, and
+ * across, w; at most 1/2 pixel) instead of the tent: sl_raster_box, the view pass's pixel
+ * filter. The deep opacity maps keep the tent (bit for bit the kernels'). */
+SL_INLINE void sl_splat_begin_box(sl_splat *it, const SL_GLOBAL float *rec, sl_int w, sl_int h,
+                                  int clip) {
+    sl_splat_begin(it, rec, w, h, clip);
+    if (it->na == 0u) return;
+    it->hx = sl_minf(0.5f * (fabs(rec[3]) + fabs(rec[6])), 0.5f);
+    it->hy = sl_minf(0.5f * (fabs(rec[4]) + fabs(rec[7])), 0.5f);
     sl_splat_load(it);
 }
 

@@ -42,15 +42,17 @@ else
 fi
 
 # The default scene (data/default.json: the same hair, melanin 0.3, the shipped city map) at
-# 80 x 60: mean colour ours / path tracer (32 spp x 2) within 5 % per channel (issue 19's target
-# is 3 % at the report's size; measured here 1.015 / 0.987 / 0.978, before the spread 0.780 /
-# 0.825 / 0.919, which fails).
+# the report's 160 x 120: mean colour ours / path tracer (32 spp x 2) within issue 19's 3 % per
+# channel. Measured 1.002 / 1.000 / 0.988; with the view pass's old tent filter 1.023 / 1.029 /
+# 1.032 (session 17, docs/coverage.md "Pixel filter"), before the spread 0.78 / 0.83 / 0.92; both
+# fail. (At 80 x 60, where this ran before, strands are ~0.1 px wide and segments shorter than a
+# pixel: 1.052 / 1.037 / 1.017 with the box filter, 1.035 / 1.019 / 1.010 with the tent.)
 "$PY" - "$D/default.json" "$PWD/data/default.json" "$PWD/data/env/city_256.hdr" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[2]))
 s["environment"]["file"] = sys.argv[3]
 s.pop("output", None)
-s["image"] = {"width": 80, "height": 60}
+s["image"] = {"width": 160, "height": 120}
 json.dump(s, open(sys.argv[1], "w"))
 PY
 "$SL" --quiet render "$D/default.json" --device c -o "$D/fd.exr" 2>/dev/null
@@ -61,8 +63,8 @@ done
 M=$("$SL" compare "$D/fd.exr" "$D/pd-1.exr" "$D/pd-2.exr" --csv 2>/dev/null |
     awk -F, '$1 == "ratio" {print $2, $3, $4}')
 if [ -n "${SL_TEST_VERBOSE:-}" ]; then echo "  default scene mean ours / path tracer: $M"; fi
-if [ -n "$M" ] && echo "$M" | awk '{exit !($1 >= 0.95 && $1 <= 1.05 && $2 >= 0.95 && $2 <= 1.05 && $3 >= 0.95 && $3 <= 1.05)}'; then
+if [ -n "$M" ] && echo "$M" | awk '{exit !($1 >= 0.97 && $1 <= 1.03 && $2 >= 0.97 && $2 <= 1.03 && $3 >= 0.97 && $3 <= 1.03)}'; then
     pass ms_default_scene_mean
 else
-    fail ms_default_scene_mean "mean colour ours / path tracer '$M', want each within 5 %"
+    fail ms_default_scene_mean "mean colour ours / path tracer '$M', want each within 3 %"
 fi

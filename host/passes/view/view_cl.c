@@ -24,17 +24,14 @@ int slcl_kbuffer_build_ex(sl_cl *cl, const slc_frag_list *l, int w, int h, int K
     char opts[64];
     snprintf(opts, sizeof opts, "-DSL_KB_K=%d", K);
     cl_kernel k;
-    int rc =
-        sl_cl_get_kernel(cl, "view.cl", "sl_kbuffer_fill", specialised ? opts : NULL, &k, e);
+    int rc = sl_cl_get_kernel(cl, "view.cl", "sl_kbuffer_fill", specialised ? opts : NULL, &k, e);
     if (rc) return rc;
     uint32_t *start = sl_calloc(npx + 1, sizeof *start);
     for (size_t i = 0; i < l->n; i++)
         start[l->pix[i] + 1]++;
     *merges = 0;
-    for (size_t p = 0; p < npx; p++) {
-        if (start[p + 1] > (uint32_t)K) *merges += start[p + 1] - (uint32_t)K;
+    for (size_t p = 0; p < npx; p++)
         start[p + 1] += start[p];
-    }
     sl_kfrag *sorted = sl_malloc((l->n ? l->n : 1) * sizeof *sorted);
     uint32_t *next = sl_malloc((npx + 1) * sizeof *next);
     memcpy(next, start, (npx + 1) * sizeof *next);
@@ -75,6 +72,12 @@ int slcl_kbuffer_build_ex(sl_cl *cl, const slc_frag_list *l, int w, int h, int K
             clEnqueueReadBuffer(q, bk, CL_TRUE, 0, npx * K * sizeof *kbuf, kbuf, 0, NULL, NULL),
             "view: read K-buffer", e))
         goto done;
+    /* the fragments that are no entry of their own (merged on overflow or hidden behind full
+     * coverage), as the C fill counts them: all of them less the entries kept */
+    size_t kept = 0;
+    for (size_t p = 0; p < npx; p++)
+        kept += count[p];
+    *merges = l->n - kept;
     rc = 0;
 done:
     if (bf) clReleaseMemObject(bf);

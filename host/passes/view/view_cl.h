@@ -7,7 +7,8 @@
 #include "view.h"
 
 /* Fills kbuf (K per pixel) and count from the fragment list l (list order kept per pixel);
- * *merges gets the number of overflowing insertions. Returns 0, -1 (e set) or SL_CL_EKERNEL. */
+ * *merges gets the number of fragments that are no entry of their own (merged or hidden), as
+ * slc_kbuffer_build counts them. Returns 0, -1 (e set) or SL_CL_EKERNEL. */
 int slcl_kbuffer_build(sl_cl *cl, const slc_frag_list *l, int w, int h, int K, sl_kfrag *kbuf,
                        uint8_t *count, size_t *merges, sl_err *e);
 /* The same with the build chosen: specialised = 1 builds view.cl with -DSL_KB_K=K (what
