@@ -369,9 +369,41 @@ TEST(srbf_ren_azimuth_symmetry_exact) {
     CHECK(a[3] > 0.0);
 }
 
-/* C lookup vs its OpenCL twin (same float code, kernels/srbf_ren_lookup.h): only the device's
- * log/exp/sqrt may differ by an ulp or two, which moves a cell fraction by ~1e-6: relative 1e-4,
- * or 1e-7 of int G near 0. */
+/* C lookup vs its OpenCL twin (same float code, kernels/srbf_ren_lookup.h) on 4096 random rows:
+ * only the device's log/exp/sqrt may differ by an ulp or two, which moves a cell fraction by
+ * ~1e-6: relative 1e-4, or 1e-7 of int G near 0. Tables: the default one of the default
+ * (Marschner) material, and a small chiang table (its R block in log space, sl_srbf_ren_blend_r:
+ * the polynomial exp, the same float operations on both). */
+static void c_vs_opencl(sl_device *dev, const sl_srbf_ren *t) {
+    enum { N = 4096 };
+    sl_err e = {{0}};
+    float *in = malloc(N * 5 * sizeof *in), *a = malloc(N * 9 * sizeof *a),
+          *b = malloc(N * 9 * sizeof *b);
+    rng_state = 5;
+    for (int i = 0; i < N; i++) {
+        in[5 * i] = (float)(PI * (rnd() - 0.5));
+        in[5 * i + 1] = (float)(2 * PI * (rnd() - 0.5));
+        in[5 * i + 2] = (float)(PI * (rnd() - 0.5));
+        in[5 * i + 3] = (float)(2 * PI * (rnd() - 0.5));
+        in[5 * i + 4] = (float)exp(log(0.01) + rnd() * log(5.0 / 0.01));
+    }
+    unsigned long k0 = sl_cl_kernels_enqueued();
+    int rc = slcl_srbf_ren_batch(dev->cl, t, N, in, a, &e);
+    CHECK_MSG(rc == 0, "%s", e.msg);
+    CHECK_CL_RAN(k0);
+    slc_srbf_ren_batch(t, N, in, b);
+    int bad = 0;
+    for (int i = 0; i < N * 9 && rc == 0; i++) {
+        double tol = 1e-4 * fabs(b[i]) + 1e-7 * lobe_int(in[5 * (i / 9) + 4]);
+        if (!(fabs(a[i] - b[i]) <= tol) && bad++ < 3)
+            CHECK_MSG(0, "row %d out %d: opencl %.8g c %.8g", i / 9, i % 9, a[i], b[i]);
+    }
+    CHECK(bad == 0);
+    free(in);
+    free(a);
+    free(b);
+}
+
 TEST(srbf_ren_c_vs_opencl) {
     sl_device dev;
     sl_err e = {{0}};
@@ -379,32 +411,19 @@ TEST(srbf_ren_c_vs_opencl) {
     sl_material m;
     sl_srbf_ren t;
     if (default_table(&t, &m) == 0) {
-        enum { N = 4096 };
-        float *in = malloc(N * 5 * sizeof *in), *a = malloc(N * 9 * sizeof *a),
-              *b = malloc(N * 9 * sizeof *b);
-        rng_state = 5;
-        for (int i = 0; i < N; i++) {
-            in[5 * i] = (float)(PI * (rnd() - 0.5));
-            in[5 * i + 1] = (float)(2 * PI * (rnd() - 0.5));
-            in[5 * i + 2] = (float)(PI * (rnd() - 0.5));
-            in[5 * i + 3] = (float)(2 * PI * (rnd() - 0.5));
-            in[5 * i + 4] = (float)exp(log(0.01) + rnd() * log(5.0 / 0.01));
-        }
-        unsigned long k0 = sl_cl_kernels_enqueued();
-        int rc = slcl_srbf_ren_batch(dev.cl, &t, N, in, a, &e);
-        CHECK_MSG(rc == 0, "%s", e.msg);
-        CHECK_CL_RAN(k0);
-        slc_srbf_ren_batch(&t, N, in, b);
-        int bad = 0;
-        for (int i = 0; i < N * 9 && rc == 0; i++) {
-            double tol = 1e-4 * fabs(b[i]) + 1e-7 * lobe_int(in[5 * (i / 9) + 4]);
-            if (!(fabs(a[i] - b[i]) <= tol) && bad++ < 3)
-                CHECK_MSG(0, "row %d out %d: opencl %.8g c %.8g", i / 9, i % 9, a[i], b[i]);
-        }
-        CHECK(bad == 0);
-        free(in);
-        free(a);
-        free(b);
+        c_vs_opencl(&dev, &t);
+        sl_srbf_ren_free(&t);
+    }
+    chiang_material(&m, "{\"model\": \"chiang\", \"melanin\": 0.3}");
+    sl_srbf_ren_params p;
+    sl_srbf_ren_params_default(&p);
+    p.n_h = 16, p.n_t = 8, p.n_phi = 8, p.n_lambda = 6;
+    p.cache_dir = "";
+    int rc = sl_srbf_ren_get(NULL, &m, &p, &t, &e);
+    CHECK_MSG(rc == 0, "%s", e.msg);
+    if (rc == 0) {
+        CHECK(t.dims.r_log == 1);
+        c_vs_opencl(&dev, &t);
         sl_srbf_ren_free(&t);
     }
     sl_device_close(&dev);
