@@ -148,7 +148,7 @@ SL_INLINE void sl_raster_tent(float x, float y, sl_int *ix, sl_int *iy, float *f
     *fy = gy - fly;
 }
 
-/* The box footprint instead of the tent (the view pass, docs/frame.md "Pixel filter"): the
+/* The box footprint instead of the tent (the view pass, docs/coverage.md "Pixel filter"): the
  * sample stands for a piece of ribbon whose bounding box has half-extents hx, hy (<= 1/2 pixel),
  * its mass spread uniformly over that box, and a pixel is the cell [i, i + 1) x [j, j + 1), so
  * what a pixel gets is the box's overlap with it: the pixel filter of a path tracer's jittered

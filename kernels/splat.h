@@ -84,9 +84,10 @@ SL_INLINE void sl_splat_load(sl_splat *it) {
 /* Starts the walk of record rec over a w x h map. clip = 0 skips the bounds checks, for a
  * caller that has shown every corner of every sample lies inside the map (cpu/raster.c:
  * rec_inside); which texels get what is the same either way. A record without samples (na or
- * nw = 0: no area) yields nothing. */
-SL_INLINE void sl_splat_begin(sl_splat *it, const SL_GLOBAL float *rec, sl_int w, sl_int h,
-                              int clip) {
+ * nw = 0: no area) yields nothing. hx, hy: each sample's box footprint (sl_raster_box), or
+ * hx < 0 for the tent (sl_raster_tent). */
+SL_INLINE void sl_splat_begin_footprint(sl_splat *it, const SL_GLOBAL float *rec, sl_int w,
+                                        sl_int h, int clip, float hx, float hy) {
     it->rec = rec;
     it->m = rec[8];
     it->na = (sl_uint)rec[9];
@@ -98,7 +99,8 @@ SL_INLINE void sl_splat_begin(sl_splat *it, const SL_GLOBAL float *rec, sl_int w
     it->h = h;
     it->left = 0u;
     it->taken = 0;
-    it->hx = it->hy = -1.0f;
+    it->hx = hx;
+    it->hy = hy;
     if (it->na == 0u || it->nw == 0u) {
         /* the first sl_splat_next steps past the last row at once */
         it->na = 0u;
@@ -108,17 +110,21 @@ SL_INLINE void sl_splat_begin(sl_splat *it, const SL_GLOBAL float *rec, sl_int w
     sl_splat_load(it);
 }
 
+/* The walk with the tent (the deep opacity maps: bit for bit the kernels'). */
+SL_INLINE void sl_splat_begin(sl_splat *it, const SL_GLOBAL float *rec, sl_int w, sl_int h,
+                              int clip) {
+    sl_splat_begin_footprint(it, rec, w, h, clip, -1.0f, -1.0f);
+}
+
 /* The same walk with each sample's mass spread over the bounding box of the piece of ribbon it
  * stands for (half-extents (|a| + |w|) / 2 per axis from the record's steps along, a, and
  * across, w; at most 1/2 pixel) instead of the tent: sl_raster_box, the view pass's pixel
- * filter. The deep opacity maps keep the tent (bit for bit the kernels'). */
+ * filter (docs/coverage.md, "Pixel filter"). */
 SL_INLINE void sl_splat_begin_box(sl_splat *it, const SL_GLOBAL float *rec, sl_int w, sl_int h,
                                   int clip) {
-    sl_splat_begin(it, rec, w, h, clip);
-    if (it->na == 0u) return;
-    it->hx = sl_minf(0.5f * (fabs(rec[3]) + fabs(rec[6])), 0.5f);
-    it->hy = sl_minf(0.5f * (fabs(rec[4]) + fabs(rec[7])), 0.5f);
-    sl_splat_load(it);
+    sl_splat_begin_footprint(it, rec, w, h, clip,
+                             sl_minf(0.5f * (fabs(rec[3]) + fabs(rec[6])), 0.5f),
+                             sl_minf(0.5f * (fabs(rec[4]) + fabs(rec[7])), 0.5f));
 }
 
 /* Moves to the next sample and loads it; 0 past the last one (then it stays done: a later call

@@ -176,11 +176,9 @@ static void fast_part(void *arg, size_t begin, size_t end, int part) {
 }
 
 /* Contiguous parts of the rows, one a thread: every row's output depends on that row alone
- * (slc_srbf_batch), so any split gives the same table. */
+ * (slc_srbf_batch), so any split gives the same table (sl_parallel_parts bounds the threads). */
 static void fast_c(const sl_fiber_params *fp, const sl_srbf_tables *ft, int threads, size_t n,
                    const float *in, float *out) {
-    enum { MAXT = 64 };
-    if (threads > MAXT) threads = MAXT;
     fast_job job = {fp, ft, in, out};
     sl_parallel_parts(threads, n, fast_part, &job);
 }
@@ -225,8 +223,6 @@ static int rgb_rows(sl_device *dev, const sl_fiber_params *fp, const sl_srbf_tab
         if (rc == 0) return 0;
         if (!sl_device_try_fallback(dev, rc, e)) return -1;
     }
-    enum { MAXT = 64 };
-    if (threads > MAXT) threads = MAXT;
     rgb_job job = {fp, ft, in, sig, out};
     sl_parallel_parts(threads, n, rgb_part, &job);
     return 0;
