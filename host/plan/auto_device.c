@@ -41,11 +41,11 @@ sl_cache_key sl_auto_device_key(const char *device_identity, const sl_scene *s, 
      * different scene size is measured afresh (a trial costs two small frames) */
     snprintf(shape, sizeof shape,
              "auto-device 1|%s|strands %u|points %u|lobes %d|%dx%d|model %d|ms %d|rate %s|broad %d|"
-             "method %d|threads %d|layers %d|voxels %d|oit %d|shadow %d/%d|refine %g",
+             "method %d|threads %d|layers %d|voxels %d|oit %d|shadow %d/%d|refine %g|sharp %d",
              device_identity, h->num_strands, h->num_points, lobes->count, s->width, s->height,
              (int)s->material.model, s->multiple_scattering, s->shading_rate, s->broad_lobes,
              ro->srbf_method, sl_parallel_threads(ro->threads), s->layers, s->voxels, s->oit_layers,
-             s->shadow_size, ro->shadow_size, s->shading_refine);
+             s->shadow_size, ro->shadow_size, s->shading_refine, s->sharp_shadows);
     sl_cache_key k = {sl_cache_hash(shape, strlen(shape)), 0};
     return k;
 }

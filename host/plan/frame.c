@@ -254,7 +254,9 @@ int sl_frame_shadow_layers(const sl_scene *s) {
  * tables (host/passes/light/shadow.h). The voxel grid: SL_VOX_FIELDS floats per voxel, and the
  * march's per-lobe textures on its coarse vertices. The shading points (at most one per K-buffer
  * entry: pos 24 B, tan 12 B, strand 4 B, T and the optical depth behind B 4 B each per lobe, out
- * 56 B) are counted at fragment rate, their largest case. */
+ * 56 B) are counted at fragment rate, their largest case; at vertex rate the sharp lobes'
+ * per-entry lookups (quality.sharp_shadows: 24 B of position while looked up, 4 B of T per
+ * sharp lobe, 4 B per pixel) stay below it. */
 void sl_frame_estimate(const sl_scene *s, int shadow_size_opt, sl_frame_need *n) {
     double npx = (double)s->width * (double)s->height;
     int K = sl_frame_oit_k(s);
@@ -268,7 +270,7 @@ void sl_frame_estimate(const sl_scene *s, int shadow_size_opt, sl_frame_need *n)
     int nmaps = SL_SHADOW_SPLIT_MAPS_PER_LOBE * nl;
     if (s->broad_lobes == SL_BROAD_SUBDIVIDE) nmaps = sl_subdiv_budget(nl, s->sublobe_width);
     int nshade = s->broad_lobes == SL_BROAD_SUBDIVIDE ? nmaps : nl;
-    double points = npx * K * (24.0 + 12.0 + 4.0 + 8.0 * nshade + 4.0 * SL_SHADE_FLOATS);
+    double points = npx * K * (24.0 + 12.0 + 4.0 + 8.0 * nshade + 4.0 * SL_SHADE_BASE_FLOATS);
     double shadow_one = (double)size * size * (4.0 + 8.0 * layers),
            shadow = (double)nmaps * shadow_one;
     double vox =

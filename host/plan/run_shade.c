@@ -127,6 +127,66 @@ static void append_lobe_rows(float **a, const float *b, int nlobes, size_t n0, s
     *a = c;
 }
 
+/* Vertex rate: the lobes whose shadow each K-buffer entry looks up itself (docs/frame.md, "Sharp
+ * shadows per entry"): up to quality.sharp_shadows of the most powerful used lobes with width
+ * lambda <= SL_FRAME_SHARP_LAMBDA, a share >= SL_FRAME_SHARP_MIN_SHARE and a deep opacity map.
+ * Their T at each entry's own position into pts (entry_first, entry_T). 0, or -1 with e set. */
+static int sharp_lobes(sl_renderer *r, const sl_scene *s, const sl_hair *h, const sl_kbuf_view *kb,
+                       sl_err *e) {
+    sl_frame_work *w = &r->fw;
+    sl_shade_points *pts = &w->pts;
+    pts->nsharp = 0;
+    if (r->rate_k < 1 || s->sharp_shadows < 1 || !w->nused) return 0;
+    double sum = 0;
+    for (int j = 0; j < w->nused; j++)
+        sum += w->share[j];
+    int nmax = s->sharp_shadows < SL_SHADE_SHARP_MAX ? s->sharp_shadows : SL_SHADE_SHARP_MAX;
+    for (int pick = 0; pick < nmax; pick++) {
+        int best = -1;
+        for (int j = 0; j < w->nused; j++) {
+            if (w->fl->lobe[w->used[j]].lambda > SL_FRAME_SHARP_LAMBDA) continue;
+            if (!(w->share[j] >= SL_FRAME_SHARP_MIN_SHARE * sum)) continue;
+            if (sl_shade_sharp_slot(pts, j) >= 0) continue;
+            int mapped = 0;
+            for (int m = 0; m < r->nlights; m++)
+                mapped |= r->light_lobe[m] == j;
+            if (mapped && (best < 0 || w->share[j] > w->share[best])) best = j;
+        }
+        if (best < 0) break;
+        pts->sharp[pts->nsharp] = best;
+        pts->sharp_share[pts->nsharp] = (float)(w->share[best] / sum);
+        pts->nsharp++;
+    }
+    if (!pts->nsharp) return 0;
+    /* the entries' positions in blocks of pixels: a position array for every entry would be the
+     * largest buffer of the pass (24 B per entry) */
+    enum { BLOCK_PX = 4096 };
+    const size_t npx = (size_t)kb->w * kb->h;
+    pts->entry_first = sl_shade_entry_first(kb);
+    pts->nentries = pts->entry_first[npx];
+    pts->entry_T = sl_calloc((size_t)pts->nsharp * pts->nentries + 1, sizeof *pts->entry_T);
+    double *pos = sl_malloc((3 * (size_t)BLOCK_PX * kb->K + 1) * sizeof *pos);
+    double *v = sl_malloc(((size_t)BLOCK_PX * kb->K + 1) * sizeof *v);
+    int rc = 0;
+    for (size_t px0 = 0; px0 < npx && !rc; px0 += BLOCK_PX) {
+        const size_t px1 = px0 + BLOCK_PX < npx ? px0 + BLOCK_PX : npx;
+        const size_t e0 = pts->entry_first[px0], n = pts->entry_first[px1] - e0;
+        if (!n) continue;
+        sl_shade_entry_positions(h, kb, px0, px1, pos);
+        for (int m = 0; m < r->nlights && !rc; m++) {
+            const int l = sl_shade_sharp_slot(pts, r->light_lobe[m]);
+            if (l < 0) continue;
+            rc = sl_shadow_lookup_both(r->dev, &r->light[m], n, pos, v, NULL, e);
+            float *t = pts->entry_T + (size_t)l * pts->nentries + e0;
+            for (size_t i = 0; !rc && i < n; i++)
+                t[i] += (float)(r->light_w[m] * v[i]);
+        }
+    }
+    free(pos);
+    free(v);
+    return rc;
+}
+
 /* Vertex rate: more shading points inside the anchor pairs whose transmittance changes by more
  * than quality.shading_refine along the strand (sl_shade_points_refine), with their own T (and
  * B). 0, or -1 with e set. */
@@ -137,8 +197,13 @@ static int refine(sl_renderer *r, const sl_scene *s, const sl_hair *h, const sl_
     r->refined = 0;
     if (r->rate_k < 1 || !(s->shading_refine > 1) || !w->nused) return 0;
     const size_t n0 = pts->n;
+    /* the sharp lobes' T is each entry's own: it needs no points in between */
+    double *share = sl_malloc(((size_t)w->nused + 1) * sizeof *share);
+    for (int j = 0; j < w->nused; j++)
+        share[j] = sl_shade_sharp_slot(pts, j) >= 0 ? 0.0 : w->share[j];
     const size_t add = sl_shade_points_refine(h, kb, r->rate_k, &w->sm, pts, pts->T, w->nused,
-                                              w->share, s->shading_refine);
+                                              share, s->shading_refine);
+    free(share);
     if (!add) return 0;
     float *T = NULL, *B = NULL;
     if (lobe_sums(r, add, pts->pos + 3 * n0, w->nused, &T, pts->B ? &B : NULL, e)) return -1;
@@ -146,7 +211,7 @@ static int refine(sl_renderer *r, const sl_scene *s, const sl_hair *h, const sl_
     if (B) append_lobe_rows(&pts->B, B, w->nused, n0, add);
     free(T);
     free(B);
-    pts->out = sl_realloc(pts->out, (pts->n * SL_SHADE_FLOATS + 1) * sizeof *pts->out);
+    pts->out = sl_realloc(pts->out, (pts->n * sl_shade_stride(pts) + 1) * sizeof *pts->out);
     r->refined = add;
     return 0;
 }
@@ -164,10 +229,11 @@ int sl_pass_lookup(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
             sm->strand_of[i] = st;
     sl_kbuf_view kb = sl_frame_kbuf(r);
     sl_shade_points_build(h, &kb, r->rate_k, sm, pts);
-    pts->out = sl_malloc((pts->n * SL_SHADE_FLOATS + 1) * sizeof *pts->out);
     /* T_j toward each lobe; with MS, the optical depth of the hair behind each point too (the
      * stack of the local backscattering, docs/volume.md) */
     if (lobe_sums_unique(r, pts, nused, &pts->T, r->ms_on ? &pts->B : NULL, e)) return -1;
+    if (sharp_lobes(r, in->s, h, &kb, e)) return -1;
+    pts->out = sl_malloc((pts->n * sl_shade_stride(pts) + 1) * sizeof *pts->out);
     if (refine(r, in->s, h, &kb, e)) return -1;
     if (r->ms_on && r->have_vol && r->ftex.nlobes == nused &&
         (!r->ftex.tau || r->tau_light_key != r->key[SL_PASSID_LIGHT])) {
@@ -189,8 +255,15 @@ int sl_pass_lookup(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
         snprintf(refined, sizeof refined,
                  " (%zu inside segments whose T changes by more than %gx, quality.shading_refine)",
                  r->refined, in->s->shading_refine);
-    sl_frame_why(r, "transmittance of %zu shading points%s toward %d lobes%s", pts->n, refined,
-                 nused, r->ms_on ? ", and the hair behind them" : "");
+    char sharp[160] = "";
+    if (pts->nsharp)
+        snprintf(
+            sharp, sizeof sharp,
+            "; %zu visible fragments toward %d sharp lobe%s (lambda %.3g%s, quality.sharp_shadows)",
+            pts->nentries, pts->nsharp, pts->nsharp > 1 ? "s" : "",
+            w->fl->lobe[w->used[pts->sharp[0]]].lambda, pts->nsharp > 1 ? ", ..." : "");
+    sl_frame_why(r, "transmittance of %zu shading points%s toward %d lobes%s%s", pts->n, refined,
+                 nused, r->ms_on ? ", and the hair behind them" : "", sharp);
     return 0;
 }
 
@@ -225,7 +298,7 @@ int sl_pass_shade(sl_renderer *r, const sl_frame_inputs *in, sl_err *e) {
     if (sl_frame_shade(r, &sc, pts, e)) return -1;
     double lobes_eval = 0;
     for (size_t i = 0; i < pts->n; i++)
-        lobes_eval += pts->out[SL_SHADE_FLOATS * i + 13];
+        lobes_eval += pts->out[sl_shade_stride(pts) * i + 13];
     char ratebuf[48];
     if (r->rate_k == 0)
         snprintf(ratebuf, sizeof ratebuf, "fragment");

@@ -39,6 +39,7 @@ void sl_scene_default(sl_scene *s) {
     s->lobe_threshold = SL_FRAME_LOBE_THRESHOLD;
     s->point_threshold = SL_FRAME_POINT_THRESHOLD;
     s->shading_refine = SL_FRAME_SHADING_REFINE;
+    s->sharp_shadows = SL_FRAME_SHARP_SHADOWS;
     s->ms_auto_threshold = SL_FRAME_MS_AUTO_THRESHOLD;
     s->auto_fragment_px = SL_FRAME_AUTO_FRAGMENT_PX;
     s->broad_lobes = SL_BROAD_SUBDIVIDE;
@@ -210,6 +211,7 @@ static int read_quality(const sl_json_ctx *top, const cJSON *q, sl_scene *s, sl_
                                        "lobe_threshold",
                                        "point_threshold",
                                        "shading_refine",
+                                       "sharp_shadows",
                                        "ms_auto_threshold",
                                        "auto_fragment_px",
                                        "broad_lobes",
@@ -233,6 +235,9 @@ static int read_quality(const sl_json_ctx *top, const cJSON *q, sl_scene *s, sl_
     v = s->oit_layers;
     if (sl_json_int(&c, q, "oit_layers", 0, 1, 64, &v, e)) return -1;
     s->oit_layers = (int)v;
+    v = s->sharp_shadows;
+    if (sl_json_int(&c, q, "sharp_shadows", 0, 0, 2, &v, e)) return -1;
+    s->sharp_shadows = (int)v;
     v = s->shadow_size;
     if (sl_json_int(&c, q, "shadow_size", 0, 16, 8192, &v, e)) return -1;
     s->shadow_size = (int)v;

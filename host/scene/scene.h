@@ -13,6 +13,13 @@
 #define SL_FRAME_POINT_THRESHOLD 1e-4 /* per point: skip lobe j when T_j x its share is below */
 #define SL_FRAME_SHADING_REFINE                                                                    \
     3.0 /* vertex rate: most a T may change along one interpolated span */
+/* quality.sharp_shadows: at vertex rate, the most compact lobes (width lambda at most
+ * SL_FRAME_SHARP_LAMBDA) whose transmittance each visible fragment looks up itself
+ * (docs/frame.md, "Sharp shadows per entry"); at most SL_SHADE_SHARP_MAX (2) */
+#define SL_FRAME_SHARP_SHADOWS 2
+#define SL_FRAME_SHARP_LAMBDA 0.1
+/* ... and carrying at least this share of the shaded lobes' power */
+#define SL_FRAME_SHARP_MIN_SHARE 0.02
 /* quality.multiple_scattering "auto": run the volume passes when sl_dual_ms_share(material) is at
  * least this (docs/dual.md: black hair 0.004, brown 0.041, blond 0.28). */
 #define SL_FRAME_MS_AUTO_THRESHOLD 0.02
@@ -71,6 +78,7 @@ typedef struct sl_scene {
     double point_threshold;   /* quality.point_threshold: per point, skip lobe j if T_j share < */
     double shading_refine;    /* quality.shading_refine: vertex rate, cut a segment whose T changes
                                  by more than this factor (<= 1: never) */
+    int sharp_shadows;        /* quality.sharp_shadows: lobes shadowed per K-buffer entry (0..2) */
     double ms_auto_threshold; /* quality.ms_auto_threshold: "auto" MS when ms share >= this */
     double auto_fragment_px;  /* quality.auto_fragment_px: shading_rate auto -> fragment above */
     int broad_lobes;          /* quality.broad_lobes: SL_BROAD_SUBDIVIDE (default) or _SPLIT */

@@ -88,6 +88,9 @@ TEST(scene_errors_name_file_and_key) {
          "\"quality\":{\"shading_refine\":1.01}}",
          "dir/scene.json: quality.shading_refine: must be 0 (off) or in [1.05, 1000]"},
         {"{\"hair\":{\"procedural\":{}},\"environment\":{\"file\":\"a.hdr\"},"
+         "\"quality\":{\"sharp_shadows\":3}}",
+         "dir/scene.json: quality.sharp_shadows: must be in [0, 2]"},
+        {"{\"hair\":{\"procedural\":{}},\"environment\":{\"file\":\"a.hdr\"},"
          "\"output\":{\"aovs\":[\"R\",\"XYZ\"]}}",
          "dir/scene.json: output.aovs[1]: unknown AOV \"XYZ\" (known: R TT TRT MS depth shadow "
          "lobes alpha)"},

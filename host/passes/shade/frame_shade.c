@@ -148,8 +148,10 @@ static void build_rows(const shade_common *sc, size_t i0, size_t i1, rowbuf *b) 
         double shadow = 0;
         int count = 0;
         for (int j = 0; j < L; j++) {
-            float T = p->T[(size_t)j * p->n + i];
-            shadow += c->share[j] * T;
+            /* a sharp lobe's T is the entry's (sl_shade_entry): its row counts at T = 1 */
+            const int sharp = sl_shade_sharp_slot(p, j) >= 0;
+            float T = sharp ? 1.0f : p->T[(size_t)j * p->n + i];
+            if (!sharp) shadow += c->share[j] * T;
             if (T * c->share[j] < c->point_threshold * sc->share_sum) continue;
             const sl_lobe *lb = &c->lobes->lobe[c->used[j]];
             float th_j, ph_j;
@@ -170,9 +172,9 @@ static void build_rows(const shade_common *sc, size_t i0, size_t i1, rowbuf *b) 
             b->rlobe[nr] = j;
             b->nr++, count++;
         }
-        p->out[SL_SHADE_FLOATS * i + 12] =
-            sc->share_sum > 0 ? (float)(shadow / sc->share_sum) : 1.0f;
-        p->out[SL_SHADE_FLOATS * i + 13] = (float)count;
+        float *out = p->out + sl_shade_stride(p) * i;
+        out[12] = sc->share_sum > 0 ? (float)(shadow / sc->share_sum) : 1.0f;
+        out[13] = (float)count;
     }
 }
 
@@ -288,9 +290,13 @@ static void accumulate(const shade_common *sc, rowbuf *b) {
         int j = b->rlobe[k];
         const sl_lobe *lb = &c->lobes->lobe[c->used[j]];
         float T = p->T[(size_t)j * p->n + i];
-        float *out = p->out + SL_SHADE_FLOATS * i;
+        float *out = p->out + sl_shade_stride(p) * i;
         float ms[3] = {0, 0, 0};
-        if (c->ms_on) {
+        /* a sharp lobe's row is there for its single scattering whatever the point's T; its
+         * multiple scattering keeps the rule of the others (T_j share_j >= point_threshold) */
+        const int ms_row =
+            sl_shade_sharp_slot(p, j) < 0 || T * c->share[j] >= c->point_threshold * sc->share_sum;
+        if (c->ms_on && ms_row) {
             float Tf[3], sf[3], f[3] = {1.0f, 1.0f, 1.0f};
             if (cn_pt != i) sl_ftex_at(c->ftex, p->pos + 3 * i, &cn), cn_pt = i;
             sl_ftex_lookup_guided(c->ftex, j, &cn, sl_ftex_tau_of(T), Tf, sf);
@@ -322,11 +328,16 @@ static void accumulate(const shade_common *sc, rowbuf *b) {
             sl_volume_ms_combine_split(x[4], Tf, f, T, MG, MGi, ML, ms);
         }
         const float *o = b->res + 9 * k; /* R rgb, TT rgb, TRT rgb */
+        const int slot = sl_shade_sharp_slot(p, j);
+        /* a sharp lobe's single scattering goes to its slot without T: each K-buffer entry
+         * multiplies it by its own (sl_shade_entry) */
+        float *so = slot < 0 ? out : out + SL_SHADE_BASE_FLOATS + 9 * slot;
+        const float Ts = slot < 0 ? T : 1.0f;
         for (int col = 0; col < 3; col++) {
-            float g = (float)lb->rgb[col] * T;
-            out[0 + col] += g * o[col];
-            out[3 + col] += g * o[3 + col];
-            out[6 + col] += g * o[6 + col];
+            float g = (float)lb->rgb[col] * Ts;
+            so[0 + col] += g * o[col];
+            so[3 + col] += g * o[3 + col];
+            so[6 + col] += g * o[6 + col];
             out[9 + col] += (float)lb->rgb[col] * ms[col]; /* ms includes the power */
         }
     }
@@ -383,7 +394,7 @@ int sl_shade_run(const sl_shade_env *env, const sl_shade_ctx *c, sl_shade_points
      * from it, the rest (painted strands) from the closed form */
     sc.table = env->table;
     sc.method = env->method;
-    memset(p->out, 0, p->n * SL_SHADE_FLOATS * sizeof *p->out);
+    memset(p->out, 0, p->n * sl_shade_stride(p) * sizeof *p->out);
     if (!env->on_device || !env->dev->is_opencl) {
         shade_c(env, &sc, 0, p->n);
         return 0;

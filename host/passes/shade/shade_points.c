@@ -202,8 +202,10 @@ void sl_shade_entry(const sl_hair *h, const sl_kbuf_view *kb, int k, const sl_sh
                     const sl_shade_points *p, size_t px, int i, float *v) {
     const sl_kfrag *f = &kb->kbuf[px * kb->K + i];
     if (k == 0) {
-        memcpy(v, p->out + (size_t)SL_SHADE_FLOATS * m->entry[px * kb->K + i],
-               SL_SHADE_FLOATS * sizeof *v);
+        const size_t st = sl_shade_stride(p);
+        memcpy(v, p->out + st * m->entry[px * kb->K + i], st * sizeof *v);
+        for (size_t q = st; q < SL_SHADE_FLOATS; q++)
+            v[q] = 0;
         return;
     }
     uint32_t lo, hi;
@@ -220,10 +222,42 @@ void sl_shade_entry(const sl_hair *h, const sl_kbuf_view *kb, int k, const sl_sh
         if (q > 0) ia = m->sub_first[lo] + (uint32_t)q - 1;
         if (q < parts - 1) ib = m->sub_first[lo] + (uint32_t)q;
     }
-    const float *a = p->out + (size_t)SL_SHADE_FLOATS * ia;
-    const float *b = p->out + (size_t)SL_SHADE_FLOATS * ib;
-    for (int q = 0; q < SL_SHADE_FLOATS; q++)
+    const size_t st = sl_shade_stride(p);
+    const float *a = p->out + st * ia;
+    const float *b = p->out + st * ib;
+    const int nq = (int)st;
+    for (int q = 0; q < nq; q++)
         v[q] = a[q] + w * (b[q] - a[q]);
+    for (int q = nq; q < SL_SHADE_FLOATS; q++)
+        v[q] = 0;
+    if (!p->nsharp) return;
+    const size_t e = p->entry_first[px] + (size_t)i;
+    for (int l = 0; l < p->nsharp; l++) {
+        float T = p->entry_T[(size_t)l * p->nentries + e];
+        float *s = v + SL_SHADE_BASE_FLOATS + 9 * l;
+        for (int q = 0; q < 9; q++)
+            v[q] += T * s[q], s[q] = 0;
+        v[12] += p->sharp_share[l] * T;
+    }
+}
+
+uint32_t *sl_shade_entry_first(const sl_kbuf_view *kb) {
+    const size_t npx = (size_t)kb->w * kb->h;
+    uint32_t *f = sl_malloc((npx + 1) * sizeof *f);
+    size_t c = 0;
+    for (size_t px = 0; px < npx; px++)
+        f[px] = (uint32_t)c, c += kb->kcount[px];
+    f[npx] = (uint32_t)c;
+    return f;
+}
+
+void sl_shade_entry_positions(const sl_hair *h, const sl_kbuf_view *kb, size_t px0, size_t px1,
+                              double *pos) {
+    for (size_t px = px0; px < px1; px++)
+        for (int i = 0; i < kb->kcount[px]; i++, pos += 3) {
+            const sl_kfrag *k = &kb->kbuf[px * kb->K + i];
+            segment_point(h, k->seg, (double)k->t, pos);
+        }
 }
 
 void sl_shade_points_free(sl_shade_points *p) {
@@ -233,6 +267,8 @@ void sl_shade_points_free(sl_shade_points *p) {
     free(p->T);
     free(p->B);
     free(p->out);
+    free(p->entry_first);
+    free(p->entry_T);
     memset(p, 0, sizeof *p);
 }
 

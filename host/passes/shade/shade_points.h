@@ -10,8 +10,15 @@
 #include <stddef.h>
 #include <stdint.h>
 
-/* Floats of one shading point's result: R, TT, TRT, MS (rgb each), shadow, lobe count. */
-#define SL_SHADE_FLOATS 14
+/* Most lobes whose shadow a vertex-rate frame looks up per K-buffer entry instead of
+ * interpolating it between shading points (quality.sharp_shadows, docs/frame.md "Sharp
+ * shadows per entry"). */
+#define SL_SHADE_SHARP_MAX 2
+/* Floats of one shading point's result: R, TT, TRT, MS (rgb each), shadow, lobe count, then per
+ * sharp lobe its R, TT, TRT rgb without its transmittance (sl_shade_stride: only as many as
+ * there are sharp lobes); SL_SHADE_FLOATS is the most, the length of a shade vector. */
+#define SL_SHADE_BASE_FLOATS 14
+#define SL_SHADE_FLOATS (SL_SHADE_BASE_FLOATS + 9 * SL_SHADE_SHARP_MAX)
 
 /* Shading points and what they need. */
 typedef struct sl_shade_points {
@@ -23,7 +30,18 @@ typedef struct sl_shade_points {
     /* nlobes x n: the optical depth of the hair behind the point seen from each used lobe
      * (sl_shadow_lookup_both, the lobe's maps weighted as T), or NULL (MS off) */
     float *B;
-    float *out; /* SL_SHADE_FLOATS n */
+    float *out; /* sl_shade_stride(p) n */
+    /* Vertex rate with sharp lobes (nsharp > 0): used-lobe indices sharp[l] whose single
+     * scattering each point stores without its T (out slot SL_SHADE_BASE_FLOATS + 9 l) and its
+     * shadow share (sharp_share[l], of the used shares' sum) left out of the shadow AOV; per
+     * K-buffer entry their T, entry_T[l nentries + entry_first[px] + i], which sl_shade_entry
+     * applies. */
+    int nsharp;
+    int sharp[SL_SHADE_SHARP_MAX];
+    float sharp_share[SL_SHADE_SHARP_MAX];
+    size_t nentries;
+    uint32_t *entry_first; /* per pixel: its first entry's index (the kcount prefix sum) */
+    float *entry_T;        /* nsharp x nentries */
 } sl_shade_points;
 
 /* From each K-buffer entry to its shading (point index, or anchor pair + weight). */
@@ -81,7 +99,25 @@ void sl_shade_points_build(const sl_hair *h, const sl_kbuf_view *kb, int k, sl_s
 size_t sl_shade_points_refine(const sl_hair *h, const sl_kbuf_view *kb, int k, sl_shade_map *m,
                               sl_shade_points *p, const float *T, int nlobes, const double *share,
                               double ratio);
-/* The shade vector (SL_SHADE_FLOATS) of K-buffer entry i of pixel px. */
+/* The index of every pixel's first K-buffer entry when they are numbered pixel by pixel, entry
+ * by entry (the kcount prefix sum; npx + 1 values, the last the count), allocated. */
+uint32_t *sl_shade_entry_first(const sl_kbuf_view *kb);
+/* The positions (3 doubles each) of the entries of pixels [px0, px1) into pos, in that order. */
+void sl_shade_entry_positions(const sl_hair *h, const sl_kbuf_view *kb, size_t px0, size_t px1,
+                              double *pos);
+/* Floats per point in p->out: SL_SHADE_BASE_FLOATS, and 9 per sharp lobe. */
+static inline size_t sl_shade_stride(const sl_shade_points *p) {
+    return SL_SHADE_BASE_FLOATS + 9 * (size_t)p->nsharp;
+}
+/* The sharp slot of used lobe j in p (0 .. nsharp - 1), or -1. */
+static inline int sl_shade_sharp_slot(const sl_shade_points *p, int j) {
+    for (int l = 0; l < p->nsharp; l++)
+        if (p->sharp[l] == j) return l;
+    return -1;
+}
+/* The shade vector (SL_SHADE_FLOATS) of K-buffer entry i of pixel px: the point's, or the
+ * interpolation along the strand; with sharp lobes, their single scattering times the entry's
+ * own T added to R, TT, TRT and their share of it to the shadow (the sharp slots are then 0). */
 void sl_shade_entry(const sl_hair *h, const sl_kbuf_view *kb, int k, const sl_shade_map *m,
                     const sl_shade_points *p, size_t px, int i, float *v);
 void sl_shade_points_free(sl_shade_points *p);

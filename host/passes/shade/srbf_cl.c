@@ -104,8 +104,8 @@ int slcl_srbf_rgb_batch_ex(sl_cl *cl, const sl_fiber_params *fp, const sl_srbf_t
     const size_t size[] = {n * 5, sigma_a ? n * 3 : 3, n * 9, SL_SRBF_C_FLOATS, SL_SRBF_H_FLOATS};
     const float *src[] = {in, sigma_a ? sigma_a : dummy, NULL, t->C, t->H};
     const cl_int ints[] = {sigma_a != NULL, method, segments};
-    const slcl_srbf_job j = {
-        "srbf.cl", "sl_srbf_eval_rgb", opts, n, "bbibbbii", ints, 2, size, src};
+    const slcl_srbf_job j = {"srbf.cl", "sl_srbf_eval_rgb", opts, n, "bbibbbii", ints, 2, size,
+                             src};
     return slcl_srbf_launch(cl, fp, &j, out, e);
 }
 

@@ -45,11 +45,12 @@ typedef struct slcl_srbf_job {
     const float *const *src;
 } slcl_srbf_job;
 
-/* The one OpenCL launch path of the SRBF batch drivers (this file's and host/passes/shade/srbf_deon_cl.c's):
- * n == 0 does nothing; n > 2^32 - 1 fails naming the kernel. Otherwise gets the kernel (built or
- * cached), creates the buffers, sets the arguments, launches one work-item per row (work groups
- * of 64, or the device's maximum when smaller), reads buffer res back into out (blocking) and
- * releases the buffers whatever happened. Returns 0, -1 (e set) or SL_CL_EKERNEL. */
+/* The one OpenCL launch path of the SRBF batch drivers (this file's and
+ * host/passes/shade/srbf_deon_cl.c's): n == 0 does nothing; n > 2^32 - 1 fails naming the kernel.
+ * Otherwise gets the kernel (built or cached), creates the buffers, sets the arguments, launches
+ * one work-item per row (work groups of 64, or the device's maximum when smaller), reads buffer res
+ * back into out (blocking) and releases the buffers whatever happened. Returns 0, -1 (e set) or
+ * SL_CL_EKERNEL. */
 int slcl_srbf_launch(sl_cl *cl, const sl_fiber_params *fp, const slcl_srbf_job *j, float *out,
                      sl_err *e);
 

@@ -78,9 +78,9 @@ TEST(shade_refine_parts_points_and_interpolation) {
      * linearly between the two points around it: x = 0.5 lies in [1/3, 2/3] (the chord there
      * gives 0.2778, the unrefined chord over [0, 1] 0.5), x = 1.5 in [1, 2] (2.5), x = 2.5 on
      * the inner point (6.25) */
-    f.p.out = calloc(SL_SHADE_FLOATS * f.p.n, sizeof *f.p.out);
+    f.p.out = calloc(sl_shade_stride(&f.p) * f.p.n, sizeof *f.p.out);
     for (size_t i = 0; i < f.p.n; i++)
-        f.p.out[SL_SHADE_FLOATS * i] = (float)(f.p.pos[3 * i] * f.p.pos[3 * i]);
+        f.p.out[sl_shade_stride(&f.p) * i] = (float)(f.p.pos[3 * i] * f.p.pos[3 * i]);
     const double want[3] = {(1.0 / 9 + 4.0 / 9) / 2, 2.5, 6.25};
     for (int px = 0; px < 3; px++) {
         float v[SL_SHADE_FLOATS];
@@ -143,9 +143,9 @@ TEST(shade_points_bent_vertex_has_a_point_per_segment) {
     CHECK(fabsf(tm[0] - (float)cos(0.5 * (a1 + a2))) < 1e-5f);
     /* an entry at the end of segment 0 reads the segment-0 point of vertex 1, one at the start
      * of segment 1 the segment-1 point: out[0] = the point's tangent x */
-    f.p.out = calloc(SL_SHADE_FLOATS * f.p.n, sizeof *f.p.out);
+    f.p.out = calloc(sl_shade_stride(&f.p) * f.p.n, sizeof *f.p.out);
     for (size_t i = 0; i < f.p.n; i++)
-        f.p.out[SL_SHADE_FLOATS * i] = f.p.tan[3 * i];
+        f.p.out[sl_shade_stride(&f.p) * i] = f.p.tan[3 * i];
     float v[SL_SHADE_FLOATS];
     f.kbuf[0].t = 1.0f;
     f.kbuf[1].t = 0.0f;
