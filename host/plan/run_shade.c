@@ -3,6 +3,8 @@
  * the SRBF response (+ multiple scattering) per point (frame_shade.c). */
 #include "plan/frame_internal.h"
 
+#include "base/parallel.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -54,9 +56,65 @@ static float *to_floats(const double *v, size_t n) {
     return f;
 }
 
+/* The C path of lobe_sums: the threads take whole lobes (each lobe's maps in their order, so the
+ * sums are those of the serial loop, bit for bit, for any thread count), each map looked up on
+ * the thread that sums it. With a few thousand points per map, threads inside each lookup
+ * spent more on starting than on looking up, and the projection ran on one thread. */
+typedef struct lobe_sums_job {
+    const sl_renderer *r;
+    size_t n;
+    const double *pos;
+    double *st, *sb;         /* nused x n sums */
+    double *vt[16], *vb[16]; /* per worker: one map's values */
+} lobe_sums_job;
+
+static void lobe_sums_part(void *arg, size_t begin, size_t end, int worker) {
+    lobe_sums_job *j = arg;
+    const sl_renderer *r = j->r;
+    for (size_t lobe = begin; lobe < end; lobe++)
+        for (int m = 0; m < r->nlights; m++) {
+            if ((size_t)r->light_lobe[m] != lobe) continue;
+            sl_shadow_lookup_both_serial(&r->light[m], j->n, j->pos, j->vt[worker],
+                                         j->sb ? j->vb[worker] : NULL);
+            double *st = j->st + lobe * j->n, *sb = j->sb ? j->sb + lobe * j->n : NULL;
+            for (size_t i = 0; i < j->n; i++) {
+                st[i] += r->light_w[m] * j->vt[worker][i];
+                if (sb) sb[i] += r->light_w[m] * j->vb[worker][i];
+            }
+        }
+}
+
+static void lobe_sums_c(const sl_renderer *r, size_t n, const double *pos, int nused, double *st,
+                        double *sb) {
+    lobe_sums_job job = {r, n, pos, st, sb, {0}, {0}};
+    int nt = sl_frame_threads(r);
+    if (nt > 16) nt = 16;
+    if (nt > nused) nt = nused;
+    if (nt < 1) nt = 1;
+    for (int k = 0; k < nt; k++) {
+        job.vt[k] = sl_malloc((n + 1) * sizeof *job.vt[k]);
+        job.vb[k] = sb ? sl_malloc((n + 1) * sizeof *job.vb[k]) : NULL;
+    }
+    sl_parallel_for(nt, (size_t)nused, 1, lobe_sums_part, &job);
+    for (int k = 0; k < nt; k++) {
+        free(job.vt[k]);
+        free(job.vb[k]);
+    }
+}
+
 static int lobe_sums(sl_renderer *r, size_t n, const double *pos, int nused, float **T, float **B,
                      sl_err *e) {
     size_t all = (size_t)nused * n;
+    if (!r->dev->is_opencl) {
+        double *st = sl_calloc(all + 1, sizeof *st),
+               *sb = B ? sl_calloc(all + 1, sizeof *sb) : NULL;
+        lobe_sums_c(r, n, pos, nused, st, sb);
+        *T = to_floats(st, all);
+        if (B) *B = to_floats(sb, all);
+        free(st);
+        free(sb);
+        return 0;
+    }
     double *vt = sl_malloc((n + 1) * sizeof *vt), *vb = B ? sl_malloc((n + 1) * sizeof *vb) : NULL;
     double *st = sl_calloc(all + 1, sizeof *st), *sb = B ? sl_calloc(all + 1, sizeof *sb) : NULL;
     int rc = 0;
@@ -127,6 +185,38 @@ static void append_lobe_rows(float **a, const float *b, int nlobes, size_t n0, s
     *a = c;
 }
 
+/* The sharp lobes' lookups of blocks of block_px pixels: on the C path each block on one thread
+ * (its entries' positions, then the sharp maps in their order: the same sums as one loop). */
+typedef struct sharp_job {
+    const sl_renderer *r;
+    const sl_hair *h;
+    const sl_kbuf_view *kb;
+    sl_shade_points *pts;
+    size_t block_px;
+    double *pos[16], *v[16]; /* per worker */
+} sharp_job;
+
+static void sharp_part(void *arg, size_t begin, size_t end, int worker) {
+    sharp_job *j = arg;
+    const sl_renderer *r = j->r;
+    sl_shade_points *pts = j->pts;
+    const size_t npx = (size_t)j->kb->w * j->kb->h;
+    for (size_t b = begin; b < end; b++) {
+        const size_t px0 = b * j->block_px, px1 = px0 + j->block_px < npx ? px0 + j->block_px : npx;
+        const size_t e0 = pts->entry_first[px0], n = pts->entry_first[px1] - e0;
+        if (!n) continue;
+        sl_shade_entry_positions(j->h, j->kb, px0, px1, j->pos[worker]);
+        for (int m = 0; m < r->nlights; m++) {
+            const int l = sl_shade_sharp_slot(pts, r->light_lobe[m]);
+            if (l < 0) continue;
+            sl_shadow_lookup_both_serial(&r->light[m], n, j->pos[worker], j->v[worker], NULL);
+            float *t = pts->entry_T + (size_t)l * pts->nentries + e0;
+            for (size_t i = 0; i < n; i++)
+                t[i] += (float)(r->light_w[m] * j->v[worker][i]);
+        }
+    }
+}
+
 /* Vertex rate: the lobes whose shadow each K-buffer entry looks up itself (docs/frame.md, "Sharp
  * shadows per entry"): up to quality.sharp_shadows of the most powerful used lobes with width
  * lambda <= SL_FRAME_SHARP_LAMBDA, a share >= SL_FRAME_SHARP_MIN_SHARE and a deep opacity map.
@@ -165,25 +255,37 @@ static int sharp_lobes(sl_renderer *r, const sl_scene *s, const sl_hair *h, cons
     pts->entry_first = sl_shade_entry_first(kb);
     pts->nentries = pts->entry_first[npx];
     pts->entry_T = sl_calloc((size_t)pts->nsharp * pts->nentries + 1, sizeof *pts->entry_T);
-    double *pos = sl_malloc((3 * (size_t)BLOCK_PX * kb->K + 1) * sizeof *pos);
-    double *v = sl_malloc(((size_t)BLOCK_PX * kb->K + 1) * sizeof *v);
+    sharp_job job = {r, h, kb, pts, BLOCK_PX, {0}, {0}};
+    int nt = r->dev->is_opencl ? 1 : sl_frame_threads(r);
+    if (nt > 16) nt = 16;
+    if (nt < 1) nt = 1;
+    for (int k = 0; k < nt; k++) {
+        job.pos[k] = sl_malloc((3 * (size_t)BLOCK_PX * kb->K + 1) * sizeof *job.pos[k]);
+        job.v[k] = sl_malloc(((size_t)BLOCK_PX * kb->K + 1) * sizeof *job.v[k]);
+    }
     int rc = 0;
-    for (size_t px0 = 0; px0 < npx && !rc; px0 += BLOCK_PX) {
-        const size_t px1 = px0 + BLOCK_PX < npx ? px0 + BLOCK_PX : npx;
-        const size_t e0 = pts->entry_first[px0], n = pts->entry_first[px1] - e0;
-        if (!n) continue;
-        sl_shade_entry_positions(h, kb, px0, px1, pos);
-        for (int m = 0; m < r->nlights && !rc; m++) {
-            const int l = sl_shade_sharp_slot(pts, r->light_lobe[m]);
-            if (l < 0) continue;
-            rc = sl_shadow_lookup_both(r->dev, &r->light[m], n, pos, v, NULL, e);
-            float *t = pts->entry_T + (size_t)l * pts->nentries + e0;
-            for (size_t i = 0; !rc && i < n; i++)
-                t[i] += (float)(r->light_w[m] * v[i]);
+    if (!r->dev->is_opencl) { /* blocks of pixels on the threads, each looked up serially */
+        sl_parallel_for(nt, (npx + BLOCK_PX - 1) / BLOCK_PX, 1, sharp_part, &job);
+    } else {
+        for (size_t px0 = 0; px0 < npx && !rc; px0 += BLOCK_PX) {
+            const size_t px1 = px0 + BLOCK_PX < npx ? px0 + BLOCK_PX : npx;
+            const size_t e0 = pts->entry_first[px0], n = pts->entry_first[px1] - e0;
+            if (!n) continue;
+            sl_shade_entry_positions(h, kb, px0, px1, job.pos[0]);
+            for (int m = 0; m < r->nlights && !rc; m++) {
+                const int l = sl_shade_sharp_slot(pts, r->light_lobe[m]);
+                if (l < 0) continue;
+                rc = sl_shadow_lookup_both(r->dev, &r->light[m], n, job.pos[0], job.v[0], NULL, e);
+                float *t = pts->entry_T + (size_t)l * pts->nentries + e0;
+                for (size_t i = 0; !rc && i < n; i++)
+                    t[i] += (float)(r->light_w[m] * job.v[0][i]);
+            }
         }
     }
-    free(pos);
-    free(v);
+    for (int k = 0; k < nt; k++) {
+        free(job.pos[k]);
+        free(job.v[k]);
+    }
     return rc;
 }
 

@@ -709,6 +709,27 @@ int sl_shadow_lookup_both(sl_device *dev, const sl_dodm *m, size_t n, const doub
     return rc;
 }
 
+void sl_shadow_lookup_both_serial(const sl_dodm *m, size_t n, const double *xyz, double *T,
+                                  double *B) {
+    enum { BLOCK = 1024 }; /* points projected at a time: the float copies stay in cache */
+    float pts[3 * BLOCK], t[BLOCK], b[BLOCK];
+    for (size_t i0 = 0; i0 < n; i0 += BLOCK) {
+        const size_t k = n - i0 < BLOCK ? n - i0 : BLOCK;
+        for (size_t i = 0; i < k; i++) {
+            double uvz[3];
+            sl_light_view_project(&m->view, xyz + 3 * (i0 + i), uvz);
+            for (int c = 0; c < 3; c++)
+                pts[3 * i + c] = (float)uvz[c];
+        }
+        ljob job = {m, pts, t, B ? b : NULL};
+        ljob_run(&job, 0, k, 0);
+        for (size_t i = 0; i < k; i++) {
+            T[i0 + i] = t[i];
+            if (B) B[i0 + i] = b[i];
+        }
+    }
+}
+
 int sl_shadow_lookup(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz, double *T,
                      sl_err *e) {
     return sl_shadow_lookup_both(dev, m, n, xyz, T, NULL, e);

@@ -133,6 +133,10 @@ int sl_shadow_lookup(sl_device *dev, const sl_dodm *m, size_t n, const double *x
  * One lookup of the map per point for both. */
 int sl_shadow_lookup_both(sl_device *dev, const sl_dodm *m, size_t n, const double *xyz, double *T,
                           double *B, sl_err *e);
+/* sl_shadow_lookup_both's C path on the calling thread (no threads of its own), the same values:
+ * for callers that look up many maps in parallel (host/plan/run_shade.c). */
+void sl_shadow_lookup_both_serial(const sl_dodm *m, size_t n, const double *xyz, double *T,
+                                  double *B);
 void sl_dodm_free(sl_dodm *m);
 
 typedef struct sl_shadow_group sl_shadow_group; /* one launch's lobes and maps (shadow.c) */
