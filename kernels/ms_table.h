@@ -28,9 +28,11 @@
  * every (SL_MSR_ND - 1) / (SL_MST_ND - 1)-th node of the N^G table, where the global term is
  * linear in the N^G values (so its D interpolation adds no error beyond N^G's own at those
  * nodes); u uniform on [-pi, pi].
- * Layout per channel: node (o, j, s) holds SL_MST_STRIDE floats: A_R[D], A_TT[D], A_TRT[D]
- * (SL_MST_ND each), then L; nodes in the order [o][j][s]. Then the 2-D table, [u][s] pairs
- * (~Delta_b, ~sigma_b). Quadrilinear (and bilinear) interpolation. */
+ * Layout per channel: node (o, j, s) holds SL_MST_STRIDE floats: (A_R, A_TT, A_TRT) at each of
+ * the SL_MST_ND D nodes in turn, then L; nodes in the order [o][j][s]. The three modes of two
+ * neighbouring D nodes are 6 consecutive floats, one cache line mostly, where [mode][D] spread
+ * a lookup's corner over three (the lookups are memory-bound: 7 MB per channel). Then the 2-D
+ * table, [u][s] pairs (~Delta_b, ~sigma_b). Quadrilinear (and bilinear) interpolation. */
 #ifndef SL_MS_TABLE_H
 #define SL_MS_TABLE_H
 
@@ -125,10 +127,9 @@ SL_INLINE float sl_mst_global(const sl_fiber_params *fp, SL_GLOBAL const float *
         float w;
         SL_GLOBAL const float *v = sl_mst_corner(mt, r, is, fs, c, &w);
         float g = 0.0f;
-        for (int t = 0; t < 3; t++) {
-            SL_GLOBAL const float *q = v + t * SL_MST_ND + r->id;
-            g += G[t] * (q[0] + r->fd * (q[1] - q[0]));
-        }
+        SL_GLOBAL const float *q = v + 3 * r->id; /* the 3 modes at D nodes id, id + 1 */
+        for (int t = 0; t < 3; t++)
+            g += G[t] * (q[t] + r->fd * (q[3 + t] - q[t]));
         mg += w * g;
     }
     return mg / r->ctj;

@@ -19,10 +19,10 @@ static void table_node(const sl_fiber_params *fp, const float *tab, const float 
                        float tj, float sF, float *v) {
     const int step = (SL_MSR_ND - 1) / (SL_MST_ND - 1);
     float td[6], wq[6], s = sF > 1e-4f ? sF : 1e-4f;
+    for (int k = 0; k < 3 * SL_MST_ND; k++)
+        v[k] = 0.0f;
     for (int t = 0; t < 3; t++) {
-        float *out = v + t * SL_MST_ND;
-        for (int k = 0; k < SL_MST_ND; k++)
-            out[k] = 0.0f;
+        float *out = v + t; /* D node k of mode t at out[3 k] */
         sl_msr_global_nodes(fp, t, to, tj, s, td, wq); /* its pref is G_t, applied at lookup */
         for (int q = 0; q < 6; q++) {
             if (!(wq[q] > 0.0f)) continue;
@@ -31,7 +31,7 @@ static void table_node(const sl_fiber_params *fp, const float *tab, const float 
             const float *r0 = ng + (t * SL_MSR_NT + i) * SL_MSR_ND, *r1 = r0 + SL_MSR_ND;
             for (int k = 0; k < SL_MST_ND; k++) {
                 int kk = k * step;
-                out[k] += wq[q] * (r0[kk] + fi * (r1[kk] - r0[kk]));
+                out[3 * k] += wq[q] * (r0[kk] + fi * (r1[kk] - r0[kk]));
             }
         }
     }
