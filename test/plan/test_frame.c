@@ -342,6 +342,48 @@ static void vertical_block(sl_hair *h, int n, double L, double W, double r) {
     h->strand_first[n] = (uint32_t)(4 * n);
 }
 
+/* The tiny scene with its hair replaced by make_hair's and one lobe (dir, lambda), multiple
+ * scattering off: the setting of the vertex-rate tests below. */
+static int one_lobe_scene(frame_tiny *t, void (*make_hair)(sl_hair *), double dx, double dy,
+                          double dz, double lambda) {
+    if (frame_tiny_setup(t, 1)) return -1;
+    sl_hair_free(&t->h);
+    make_hair(&t->h);
+    t->l.count = 1;
+    t->l.lobe[0].dir[0] = dx, t->l.lobe[0].dir[1] = dy, t->l.lobe[0].dir[2] = dz;
+    t->l.lobe[0].lambda = lambda;
+    t->s.multiple_scattering = SL_MS_OFF;
+    return 0;
+}
+
+/* The frame at fragment rate (f[0]), then at vertex rate with a feature off (f[1]) and on
+ * (f[2]): set(&t->s, 0 or 1) switches it. Returns the number of frames rendered. */
+static int three_rates(frame_tiny *t, void (*set)(sl_scene *, int), sl_fbuf f[3]) {
+    sl_device dev = {0};
+    sl_err e;
+    if (sl_device_open("c", &dev, &e)) return 0;
+    sl_renderer *r = sl_renderer_create(&dev, NULL);
+    int n = 0;
+    snprintf(t->s.shading_rate, sizeof t->s.shading_rate, "fragment");
+    n += frame_tiny_render(r, t, &f[0]) == 0 && sl_renderer_shading_rate(r) == 0;
+    snprintf(t->s.shading_rate, sizeof t->s.shading_rate, "vertex");
+    for (int on = 0; on < 2; on++) {
+        set(&t->s, on);
+        n += frame_tiny_render(r, t, &f[1 + on]) == 0 && sl_renderer_shading_rate(r) == 1;
+    }
+    sl_renderer_free(r);
+    sl_device_close(&dev);
+    return n;
+}
+
+static void vertical_block_600(sl_hair *h) {
+    vertical_block(h, 600, 12, 6, 0.05);
+}
+
+static void set_refine(sl_scene *s, int on) {
+    s->shading_refine = on ? SL_FRAME_SHADING_REFINE : 0;
+}
+
 TEST(frame_refined_vertex_rate_follows_the_shadow) {
     /* A block of straight vertical fibers of 3 long segments, lit by one lobe from below at 45
      * deg: T falls by orders of magnitude along a segment into the block. Interpolating the
@@ -359,27 +401,12 @@ TEST(frame_refined_vertex_rate_follows_the_shadow) {
      * both figures refined within half of the unrefined ones (the refinement disabled fails
      * them both). */
     frame_tiny t;
-    sl_device dev = {0};
-    sl_err e;
-    CHECK(frame_tiny_setup(&t, 1) == 0);
-    sl_hair_free(&t.h);
-    vertical_block(&t.h, 600, 12, 6, 0.05);
-    t.l.count = 1;
-    t.l.lobe[0].dir[0] = 0.70710678, t.l.lobe[0].dir[1] = -0.70710678, t.l.lobe[0].dir[2] = 0;
-    t.l.lobe[0].lambda = 0.2;
-    t.s.multiple_scattering = SL_MS_OFF;
+    CHECK(one_lobe_scene(&t, vertical_block_600, 0.70710678, -0.70710678, 0, 0.2) == 0);
     frame_tiny_frame_camera(&t);
-    CHECK(sl_device_open("c", &dev, &e) == 0);
-    sl_renderer *r = sl_renderer_create(&dev, NULL);
-    sl_fbuf a, b, c;
-    snprintf(t.s.shading_rate, sizeof t.s.shading_rate, "fragment");
-    CHECK(frame_tiny_render(r, &t, &a) == 0);
-    snprintf(t.s.shading_rate, sizeof t.s.shading_rate, "vertex");
-    t.s.shading_refine = 0;
-    CHECK(frame_tiny_render(r, &t, &b) == 0);
-    CHECK(sl_renderer_shading_rate(r) == 1);
-    t.s.shading_refine = SL_FRAME_SHADING_REFINE;
-    CHECK(frame_tiny_render(r, &t, &c) == 0);
+    sl_fbuf f[3];
+    CHECK(three_rates(&t, set_refine, f) == 3);
+    if (sl_test_failed_now()) return;
+    const sl_fbuf a = f[0], b = f[1], c = f[2];
     const double db = frame_rel_l1(&b, &a), dc = frame_rel_l1(&c, &a);
     const double sa = frame_rgb_sum(&a), sb = frame_rgb_sum(&b), sc = frame_rgb_sum(&c);
     CHECK(sa > 0);
@@ -389,11 +416,9 @@ TEST(frame_refined_vertex_rate_follows_the_shadow) {
     CHECK_MSG(dc < 0.5 * db, "refined %.4f, unrefined %.4f", dc, db);
     CHECK_MSG(fabs(sc / sa - 1) < 0.5 * fabs(sb / sa - 1), "sums refined %.3f, unrefined %.3f",
               sc / sa, sb / sa);
-    sl_fbuf_free(&a);
-    sl_fbuf_free(&b);
-    sl_fbuf_free(&c);
-    sl_renderer_free(r);
-    frame_tiny_close(&t, &dev);
+    for (int k = 0; k < 3; k++)
+        sl_fbuf_free(&f[k]);
+    frame_tiny_free(&t);
 }
 
 /* A row of nv vertical fibers (x in [-1, 1], z = 0, y in [0, 3], two segments of 1.5, radius
@@ -422,6 +447,14 @@ static void comb_beside_fibers(sl_hair *h, int nv) {
     h->strand_first[n] = o;
 }
 
+static void comb_beside_12(sl_hair *h) {
+    comb_beside_fibers(h, 12);
+}
+
+static void set_sharp(sl_scene *s, int on) {
+    s->sharp_shadows = on ? SL_FRAME_SHARP_SHADOWS : 0;
+}
+
 TEST(frame_sharp_lobe_shadow_per_entry) {
     /* A sun (one lobe of width lambda 0.02 < SL_FRAME_SHARP_LAMBDA) shining through a comb of
      * occluders casts a dozen shadow stripes on every segment of the fibers behind it. At vertex
@@ -434,34 +467,19 @@ TEST(frame_sharp_lobe_shadow_per_entry) {
      * along a segment): mean |difference| / mean 0.040 per entry against 0.270 interpolated.
      * Bounds: 0.08 and a quarter of the interpolated figure. */
     frame_tiny t;
-    sl_device dev = {0};
-    sl_err e;
-    CHECK(frame_tiny_setup(&t, 1) == 0);
-    sl_hair_free(&t.h);
-    comb_beside_fibers(&t.h, 12);
-    t.l.count = 1;
-    t.l.lobe[0].dir[0] = 0.8660254, t.l.lobe[0].dir[1] = 0.0, t.l.lobe[0].dir[2] = 0.5;
-    t.l.lobe[0].lambda = 0.02;
+    CHECK(one_lobe_scene(&t, comb_beside_12, 0.8660254, 0, 0.5, 0.02) == 0);
     for (int k = 0; k < 3; k++) /* a sun's power: G's integral is pi lambda^2 */
         t.l.lobe[0].rgb[k] = 1.0 / (M_PI * 0.02 * 0.02);
-    t.s.multiple_scattering = SL_MS_OFF;
     t.s.shading_refine = 0; /* the stripes, not the refinement, are under test */
     t.s.width = 128, t.s.height = 128;
     float lo[3], hi[3];
     sl_hair_bounds(&t.h, lo, hi);
     const double target[3] = {0, 1.5, 0};
     sl_camera_setup(&t.cam, NULL, target, t.s.up, 40, 128, 128, lo, hi);
-    CHECK(sl_device_open("c", &dev, &e) == 0);
-    sl_renderer *r = sl_renderer_create(&dev, NULL);
-    sl_fbuf a, b, c;
-    snprintf(t.s.shading_rate, sizeof t.s.shading_rate, "fragment");
-    CHECK(frame_tiny_render(r, &t, &a) == 0);
-    snprintf(t.s.shading_rate, sizeof t.s.shading_rate, "vertex");
-    t.s.sharp_shadows = 0;
-    CHECK(frame_tiny_render(r, &t, &b) == 0);
-    CHECK(sl_renderer_shading_rate(r) == 1);
-    t.s.sharp_shadows = SL_FRAME_SHARP_SHADOWS;
-    CHECK(frame_tiny_render(r, &t, &c) == 0);
+    sl_fbuf f[3];
+    CHECK(three_rates(&t, set_sharp, f) == 3);
+    if (sl_test_failed_now()) return;
+    const sl_fbuf a = f[0], b = f[1], c = f[2];
     double dmax_b = 0, dmax_c = 0, lit = 0, dark = 0;
     const size_t npx = (size_t)a.width * a.height;
     for (size_t i = 0; i < npx; i++) {
@@ -479,11 +497,9 @@ TEST(frame_sharp_lobe_shadow_per_entry) {
     CHECK_MSG(dmax_b > 0.3, "interpolated shadows differ by only %.3f: the test sees no stripes",
               dmax_b);
     CHECK_MSG(dc < 0.08 && dc < 0.25 * db, "beauty %.4f per entry, %.4f interpolated", dc, db);
-    sl_fbuf_free(&a);
-    sl_fbuf_free(&b);
-    sl_fbuf_free(&c);
-    sl_renderer_free(r);
-    frame_tiny_close(&t, &dev);
+    for (int k = 0; k < 3; k++)
+        sl_fbuf_free(&f[k]);
+    frame_tiny_free(&t);
 }
 
 TEST(frame_c_vs_opencl) {
