@@ -56,85 +56,85 @@ static float *to_floats(const double *v, size_t n) {
     return f;
 }
 
-/* The C path of lobe_sums: the threads take whole lobes (each lobe's maps in their order, so the
- * sums are those of the serial loop, bit for bit, for any thread count), each map looked up on
- * the thread that sums it. With a few thousand points per map, threads inside each lookup
- * spent more on starting than on looking up, and the projection ran on one thread. */
+/* Map m's T (and B) at n points: on the C path serially on the calling thread (the callers
+ * below run maps or blocks on threads of their own), on an OpenCL device by one launch (one
+ * caller thread). 0, or -1 with e set. */
+static int lookup_map(const sl_renderer *r, int m, size_t n, const double *pos, double *T,
+                      double *B, sl_err *e) {
+    if (r->dev->is_opencl) return sl_shadow_lookup_both(r->dev, &r->light[m], n, pos, T, B, e);
+    sl_shadow_lookup_both_serial(&r->light[m], n, pos, T, B);
+    return 0;
+}
+
+/* Threads for the lookups: the frame's on the C path, 1 on an OpenCL device (its launches
+ * fan out), at most MAXW (the workers' scratch). */
+enum { MAXW = 16 };
+static int lookup_threads(const sl_renderer *r, size_t items) {
+    int nt = r->dev->is_opencl ? 1 : sl_frame_threads(r);
+    if (nt > MAXW) nt = MAXW;
+    if ((size_t)nt > items) nt = (int)items;
+    return nt < 1 ? 1 : nt;
+}
+
+/* lobe_sums's work: the threads take whole lobes, each lobe's maps in their order (so the sums
+ * are the same, bit for bit, for any thread count), each map looked up on the thread that sums
+ * it. With a few thousand points per map, threads inside each lookup spent more on starting
+ * than on looking up, and the projection ran on one thread. */
 typedef struct lobe_sums_job {
     const sl_renderer *r;
     size_t n;
     const double *pos;
-    double *st, *sb;         /* nused x n sums */
-    double *vt[16], *vb[16]; /* per worker: one map's values */
+    double *st, *sb;             /* nused x n sums */
+    double *vt[MAXW], *vb[MAXW]; /* per worker: one map's values */
+    int rc;                      /* a failed device lookup (one worker then) */
+    sl_err *e;
 } lobe_sums_job;
 
 static void lobe_sums_part(void *arg, size_t begin, size_t end, int worker) {
     lobe_sums_job *j = arg;
     const sl_renderer *r = j->r;
-    for (size_t lobe = begin; lobe < end; lobe++)
-        for (int m = 0; m < r->nlights; m++) {
+    for (size_t lobe = begin; lobe < end && !j->rc; lobe++)
+        for (int m = 0; m < r->nlights && !j->rc; m++) {
             if ((size_t)r->light_lobe[m] != lobe) continue;
-            sl_shadow_lookup_both_serial(&r->light[m], j->n, j->pos, j->vt[worker],
-                                         j->sb ? j->vb[worker] : NULL);
+            double *vt = j->vt[worker], *vb = j->sb ? j->vb[worker] : NULL;
+            if ((j->rc = lookup_map(r, m, j->n, j->pos, vt, vb, j->e))) break;
             double *st = j->st + lobe * j->n, *sb = j->sb ? j->sb + lobe * j->n : NULL;
             for (size_t i = 0; i < j->n; i++) {
-                st[i] += r->light_w[m] * j->vt[worker][i];
-                if (sb) sb[i] += r->light_w[m] * j->vb[worker][i];
+                st[i] += r->light_w[m] * vt[i];
+                if (sb) sb[i] += r->light_w[m] * vb[i];
             }
         }
 }
 
-static void lobe_sums_c(const sl_renderer *r, size_t n, const double *pos, int nused, double *st,
-                        double *sb) {
-    lobe_sums_job job = {r, n, pos, st, sb, {0}, {0}};
-    int nt = sl_frame_threads(r);
-    if (nt > 16) nt = 16;
-    if (nt > nused) nt = nused;
-    if (nt < 1) nt = 1;
+static int lobe_sums(sl_renderer *r, size_t n, const double *pos, int nused, float **T, float **B,
+                     sl_err *e) {
+    const size_t all = (size_t)nused * n;
+    lobe_sums_job job = {r,
+                         n,
+                         pos,
+                         sl_calloc(all + 1, sizeof(double)),
+                         B ? sl_calloc(all + 1, sizeof(double)) : NULL,
+                         {0},
+                         {0},
+                         0,
+                         e};
+    const int nt = lookup_threads(r, (size_t)nused);
     for (int k = 0; k < nt; k++) {
         job.vt[k] = sl_malloc((n + 1) * sizeof *job.vt[k]);
-        job.vb[k] = sb ? sl_malloc((n + 1) * sizeof *job.vb[k]) : NULL;
+        job.vb[k] = B ? sl_malloc((n + 1) * sizeof *job.vb[k]) : NULL;
     }
     sl_parallel_for(nt, (size_t)nused, 1, lobe_sums_part, &job);
+    if (!job.rc) {
+        *T = to_floats(job.st, all);
+        if (B) *B = to_floats(job.sb, all);
+    }
     for (int k = 0; k < nt; k++) {
         free(job.vt[k]);
         free(job.vb[k]);
     }
-}
-
-static int lobe_sums(sl_renderer *r, size_t n, const double *pos, int nused, float **T, float **B,
-                     sl_err *e) {
-    size_t all = (size_t)nused * n;
-    if (!r->dev->is_opencl) {
-        double *st = sl_calloc(all + 1, sizeof *st),
-               *sb = B ? sl_calloc(all + 1, sizeof *sb) : NULL;
-        lobe_sums_c(r, n, pos, nused, st, sb);
-        *T = to_floats(st, all);
-        if (B) *B = to_floats(sb, all);
-        free(st);
-        free(sb);
-        return 0;
-    }
-    double *vt = sl_malloc((n + 1) * sizeof *vt), *vb = B ? sl_malloc((n + 1) * sizeof *vb) : NULL;
-    double *st = sl_calloc(all + 1, sizeof *st), *sb = B ? sl_calloc(all + 1, sizeof *sb) : NULL;
-    int rc = 0;
-    for (int m = 0; m < r->nlights && !rc; m++) {
-        rc = sl_shadow_lookup_both(r->dev, &r->light[m], n, pos, vt, vb, e);
-        size_t o = (size_t)r->light_lobe[m] * n;
-        for (size_t i = 0; !rc && i < n; i++) {
-            st[o + i] += r->light_w[m] * vt[i];
-            if (sb) sb[o + i] += r->light_w[m] * vb[i];
-        }
-    }
-    if (!rc) {
-        *T = to_floats(st, all);
-        if (B) *B = to_floats(sb, all);
-    }
-    free(vt);
-    free(vb);
-    free(st);
-    free(sb);
-    return rc;
+    free(job.st);
+    free(job.sb);
+    return job.rc;
 }
 
 /* lobe_sums at the points of p, each position looked up once: a bent vertex's two shading
@@ -185,15 +185,17 @@ static void append_lobe_rows(float **a, const float *b, int nlobes, size_t n0, s
     *a = c;
 }
 
-/* The sharp lobes' lookups of blocks of block_px pixels: on the C path each block on one thread
- * (its entries' positions, then the sharp maps in their order: the same sums as one loop). */
+/* The sharp lobes' lookups, a block of block_px pixels at a time: each block on one thread (its
+ * entries' positions, then the sharp maps in their order: the same sums for any split). */
 typedef struct sharp_job {
     const sl_renderer *r;
     const sl_hair *h;
     const sl_kbuf_view *kb;
     sl_shade_points *pts;
     size_t block_px;
-    double *pos[16], *v[16]; /* per worker */
+    double *pos[MAXW], *v[MAXW]; /* per worker */
+    int rc;
+    sl_err *e;
 } sharp_job;
 
 static void sharp_part(void *arg, size_t begin, size_t end, int worker) {
@@ -201,15 +203,15 @@ static void sharp_part(void *arg, size_t begin, size_t end, int worker) {
     const sl_renderer *r = j->r;
     sl_shade_points *pts = j->pts;
     const size_t npx = (size_t)j->kb->w * j->kb->h;
-    for (size_t b = begin; b < end; b++) {
+    for (size_t b = begin; b < end && !j->rc; b++) {
         const size_t px0 = b * j->block_px, px1 = px0 + j->block_px < npx ? px0 + j->block_px : npx;
         const size_t e0 = pts->entry_first[px0], n = pts->entry_first[px1] - e0;
         if (!n) continue;
         sl_shade_entry_positions(j->h, j->kb, px0, px1, j->pos[worker]);
-        for (int m = 0; m < r->nlights; m++) {
+        for (int m = 0; m < r->nlights && !j->rc; m++) {
             const int l = sl_shade_sharp_slot(pts, r->light_lobe[m]);
             if (l < 0) continue;
-            sl_shadow_lookup_both_serial(&r->light[m], n, j->pos[worker], j->v[worker], NULL);
+            if ((j->rc = lookup_map(r, m, n, j->pos[worker], j->v[worker], NULL, j->e))) break;
             float *t = pts->entry_T + (size_t)l * pts->nentries + e0;
             for (size_t i = 0; i < n; i++)
                 t[i] += (float)(r->light_w[m] * j->v[worker][i]);
@@ -255,38 +257,19 @@ static int sharp_lobes(sl_renderer *r, const sl_scene *s, const sl_hair *h, cons
     pts->entry_first = sl_shade_entry_first(kb);
     pts->nentries = pts->entry_first[npx];
     pts->entry_T = sl_calloc((size_t)pts->nsharp * pts->nentries + 1, sizeof *pts->entry_T);
-    sharp_job job = {r, h, kb, pts, BLOCK_PX, {0}, {0}};
-    int nt = r->dev->is_opencl ? 1 : sl_frame_threads(r);
-    if (nt > 16) nt = 16;
-    if (nt < 1) nt = 1;
+    const size_t nblocks = (npx + BLOCK_PX - 1) / BLOCK_PX;
+    sharp_job job = {r, h, kb, pts, BLOCK_PX, {0}, {0}, 0, e};
+    const int nt = lookup_threads(r, nblocks);
     for (int k = 0; k < nt; k++) {
         job.pos[k] = sl_malloc((3 * (size_t)BLOCK_PX * kb->K + 1) * sizeof *job.pos[k]);
         job.v[k] = sl_malloc(((size_t)BLOCK_PX * kb->K + 1) * sizeof *job.v[k]);
     }
-    int rc = 0;
-    if (!r->dev->is_opencl) { /* blocks of pixels on the threads, each looked up serially */
-        sl_parallel_for(nt, (npx + BLOCK_PX - 1) / BLOCK_PX, 1, sharp_part, &job);
-    } else {
-        for (size_t px0 = 0; px0 < npx && !rc; px0 += BLOCK_PX) {
-            const size_t px1 = px0 + BLOCK_PX < npx ? px0 + BLOCK_PX : npx;
-            const size_t e0 = pts->entry_first[px0], n = pts->entry_first[px1] - e0;
-            if (!n) continue;
-            sl_shade_entry_positions(h, kb, px0, px1, job.pos[0]);
-            for (int m = 0; m < r->nlights && !rc; m++) {
-                const int l = sl_shade_sharp_slot(pts, r->light_lobe[m]);
-                if (l < 0) continue;
-                rc = sl_shadow_lookup_both(r->dev, &r->light[m], n, job.pos[0], job.v[0], NULL, e);
-                float *t = pts->entry_T + (size_t)l * pts->nentries + e0;
-                for (size_t i = 0; !rc && i < n; i++)
-                    t[i] += (float)(r->light_w[m] * job.v[0][i]);
-            }
-        }
-    }
+    sl_parallel_for(nt, nblocks, 1, sharp_part, &job);
     for (int k = 0; k < nt; k++) {
         free(job.pos[k]);
         free(job.v[k]);
     }
-    return rc;
+    return job.rc;
 }
 
 /* Vertex rate: more shading points inside the anchor pairs whose transmittance changes by more

@@ -43,10 +43,10 @@ void sl_resolve(const sl_kbuf_view *kb, const sl_hair *h, int k, const sl_shade_
         if (!n) continue;
         float wt[SL_KBUFFER_MAX], v[SL_SHADE_FLOATS];
         float alpha = sl_kbuffer_weights(kb->kbuf + px * K, n, wt);
-        double acc[SL_SHADE_FLOATS] = {0};
+        double acc[SL_SHADE_BASE_FLOATS] = {0};
         for (int i = 0; i < n; i++) {
             sl_shade_entry(h, kb, k, sm, pts, px, i, v);
-            for (int q = 0; q < SL_SHADE_FLOATS; q++)
+            for (int q = 0; q < SL_SHADE_BASE_FLOATS; q++)
                 acc[q] += (double)wt[i] * v[q];
         }
         for (int c = 0; c < 3; c++) {

@@ -292,10 +292,10 @@ static void accumulate(const shade_common *sc, rowbuf *b) {
         float T = p->T[(size_t)j * p->n + i];
         float *out = p->out + sl_shade_stride(p) * i;
         float ms[3] = {0, 0, 0};
+        const int slot = sl_shade_sharp_slot(p, j);
         /* a sharp lobe's row is there for its single scattering whatever the point's T; its
          * multiple scattering keeps the rule of the others (T_j share_j >= point_threshold) */
-        const int ms_row =
-            sl_shade_sharp_slot(p, j) < 0 || T * c->share[j] >= c->point_threshold * sc->share_sum;
+        const int ms_row = slot < 0 || T * c->share[j] >= c->point_threshold * sc->share_sum;
         if (c->ms_on && ms_row) {
             float Tf[3], sf[3], f[3] = {1.0f, 1.0f, 1.0f};
             if (cn_pt != i) sl_ftex_at(c->ftex, p->pos + 3 * i, &cn), cn_pt = i;
@@ -328,7 +328,6 @@ static void accumulate(const shade_common *sc, rowbuf *b) {
             sl_volume_ms_combine_split(x[4], Tf, f, T, MG, MGi, ML, ms);
         }
         const float *o = b->res + 9 * k; /* R rgb, TT rgb, TRT rgb */
-        const int slot = sl_shade_sharp_slot(p, j);
         /* a sharp lobe's single scattering goes to its slot without T: each K-buffer entry
          * multiplies it by its own (sl_shade_entry) */
         float *so = slot < 0 ? out : out + SL_SHADE_BASE_FLOATS + 9 * slot;

@@ -204,8 +204,6 @@ void sl_shade_entry(const sl_hair *h, const sl_kbuf_view *kb, int k, const sl_sh
     if (k == 0) {
         const size_t st = sl_shade_stride(p);
         memcpy(v, p->out + st * m->entry[px * kb->K + i], st * sizeof *v);
-        for (size_t q = st; q < SL_SHADE_FLOATS; q++)
-            v[q] = 0;
         return;
     }
     uint32_t lo, hi;
@@ -225,18 +223,14 @@ void sl_shade_entry(const sl_hair *h, const sl_kbuf_view *kb, int k, const sl_sh
     const size_t st = sl_shade_stride(p);
     const float *a = p->out + st * ia;
     const float *b = p->out + st * ib;
-    const int nq = (int)st;
-    for (int q = 0; q < nq; q++)
+    for (size_t q = 0; q < st; q++)
         v[q] = a[q] + w * (b[q] - a[q]);
-    for (int q = nq; q < SL_SHADE_FLOATS; q++)
-        v[q] = 0;
-    if (!p->nsharp) return;
-    const size_t e = p->entry_first[px] + (size_t)i;
+    const size_t e = p->nsharp ? p->entry_first[px] + (size_t)i : 0;
     for (int l = 0; l < p->nsharp; l++) {
-        float T = p->entry_T[(size_t)l * p->nentries + e];
-        float *s = v + SL_SHADE_BASE_FLOATS + 9 * l;
+        const float T = p->entry_T[(size_t)l * p->nentries + e];
+        const float *s = v + SL_SHADE_BASE_FLOATS + 9 * l;
         for (int q = 0; q < 9; q++)
-            v[q] += T * s[q], s[q] = 0;
+            v[q] += T * s[q];
         v[12] += p->sharp_share[l] * T;
     }
 }

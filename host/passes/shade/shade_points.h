@@ -115,9 +115,10 @@ static inline int sl_shade_sharp_slot(const sl_shade_points *p, int j) {
         if (p->sharp[l] == j) return l;
     return -1;
 }
-/* The shade vector (SL_SHADE_FLOATS) of K-buffer entry i of pixel px: the point's, or the
- * interpolation along the strand; with sharp lobes, their single scattering times the entry's
- * own T added to R, TT, TRT and their share of it to the shadow (the sharp slots are then 0). */
+/* The shade vector of K-buffer entry i of pixel px into v[0 .. SL_SHADE_BASE_FLOATS - 1]: the
+ * point's, or the interpolation along the strand; with sharp lobes, their single scattering
+ * times the entry's own T added to R, TT, TRT and their share of it to the shadow. v holds
+ * SL_SHADE_FLOATS (the rest is scratch: the sharp lobes' interpolated slots). */
 void sl_shade_entry(const sl_hair *h, const sl_kbuf_view *kb, int k, const sl_shade_map *m,
                     const sl_shade_points *p, size_t px, int i, float *v);
 void sl_shade_points_free(sl_shade_points *p);
